@@ -1,0 +1,1 @@
+//! Mock autopilots for swarmctl (in progress).

@@ -1,0 +1,5 @@
+//! One file per subcommand: argument struct and the code that reports its result.
+
+pub mod check;
+pub mod generate;
+pub mod template;

@@ -1,0 +1,10 @@
+//! swarmctl: plan, schedule and fly drone swarms.
+//!
+//! The pipeline runs one way: [`mission::load`] → `plan::solve` → `schedule` →
+//! `trajectory` → `fly`. Each stage is a pure function of the one before, except
+//! `fly`, the only stage that talks to vehicles.
+
+pub mod generate;
+pub mod mission;
+pub mod plan;
+pub mod world;

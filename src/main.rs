@@ -1,0 +1,40 @@
+//! The `swarmctl` command line: parses arguments, calls the library, reports.
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Plan, schedule and fly drone swarms from one mission file.
+#[derive(Debug, Parser)]
+#[command(name = "swarmctl", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Validate mission files and summarise them.
+    Check(commands::check::Args),
+    /// Generate a random mission like the paper's experiments.
+    Gen(commands::generate::Args),
+    /// Print a commented mission template documenting every field.
+    Template(commands::template::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Check(args) => commands::check::run(args),
+        Command::Gen(args) => commands::generate::run(args),
+        Command::Template(args) => commands::template::run(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

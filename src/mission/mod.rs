@@ -1,0 +1,15 @@
+//! Mission files: the schema users write, its validation and a commented template.
+
+mod error;
+mod load;
+pub mod schema;
+mod template;
+mod types;
+mod validate;
+
+pub use error::{MissionError, Problem};
+pub use load::{from_yaml, load, parse_yaml};
+pub use schema::{Autopilot, MissionFile};
+pub use template::TEMPLATE;
+pub use types::{Drone, Group, Limits, LinkSettings, Mission};
+pub use validate::{MAX_DIMENSION, MAX_VOXELS, validate};

@@ -1,0 +1,235 @@
+//! The voxel world: bounds, obstacles, metric placement and the 6-connected graph.
+
+use super::Voxel;
+use nalgebra::Point3;
+use std::collections::VecDeque;
+
+/// Dense index of a voxel inside a [`VoxelGrid`]; the planner works on these.
+pub type Cell = usize;
+
+/// Marks an unreachable cell in the result of [`VoxelGrid::distances_from`].
+pub const UNREACHABLE: u32 = u32::MAX;
+
+/// A box of voxels, each free or blocked, placed in ENU metres.
+///
+/// ```
+/// use swarmctl::world::{Voxel, VoxelGrid};
+/// let mut grid = VoxelGrid::new([3, 1, 1], 0.5, [0.0, 0.0, 1.0]);
+/// grid.block(Voxel::new(1, 0, 0));
+/// assert_eq!(grid.free_count(), 2);
+/// assert_eq!(grid.center_m(Voxel::new(2, 0, 0)).x, 1.0);
+/// let from = grid.cell(Voxel::new(0, 0, 0)).unwrap();
+/// assert_eq!(grid.neighbours(from).count(), 0); // the only way on is blocked
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct VoxelGrid {
+    dimensions: [u32; 3],
+    voxel_size_m: f64,
+    origin_m: [f64; 3],
+    blocked: Vec<bool>,
+}
+
+impl VoxelGrid {
+    /// An empty world. Dimensions must have been validated (non-zero, bounded).
+    pub fn new(dimensions: [u32; 3], voxel_size_m: f64, origin_m: [f64; 3]) -> Self {
+        let len = dimensions.iter().map(|&d| d as usize).product();
+        Self {
+            dimensions,
+            voxel_size_m,
+            origin_m,
+            blocked: vec![false; len],
+        }
+    }
+
+    pub fn dimensions(&self) -> [u32; 3] {
+        self.dimensions
+    }
+
+    pub fn voxel_size_m(&self) -> f64 {
+        self.voxel_size_m
+    }
+
+    pub fn origin_m(&self) -> [f64; 3] {
+        self.origin_m
+    }
+
+    /// Number of voxels, blocked or free.
+    pub fn len(&self) -> usize {
+        self.blocked.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.blocked.is_empty()
+    }
+
+    pub fn free_count(&self) -> usize {
+        self.blocked.iter().filter(|&&b| !b).count()
+    }
+
+    pub fn contains(&self, v: Voxel) -> bool {
+        v.x < self.dimensions[0] && v.y < self.dimensions[1] && v.z < self.dimensions[2]
+    }
+
+    /// The dense index of `v`, or `None` outside the world.
+    pub fn cell(&self, v: Voxel) -> Option<Cell> {
+        self.contains(v).then(|| {
+            let [dx, dy, _] = self.dimensions.map(|d| d as usize);
+            v.x as usize + dx * (v.y as usize + dy * v.z as usize)
+        })
+    }
+
+    /// The voxel at a dense index obtained from this grid.
+    pub fn voxel(&self, cell: Cell) -> Voxel {
+        let [dx, dy, _] = self.dimensions.map(|d| d as usize);
+        Voxel::new(
+            (cell % dx) as u32,
+            ((cell / dx) % dy) as u32,
+            (cell / (dx * dy)) as u32,
+        )
+    }
+
+    pub fn block(&mut self, v: Voxel) {
+        if let Some(c) = self.cell(v) {
+            self.blocked[c] = true;
+        }
+    }
+
+    pub fn is_blocked(&self, v: Voxel) -> bool {
+        self.cell(v).is_some_and(|c| self.blocked[c])
+    }
+
+    /// True for a voxel inside the world and not an obstacle.
+    pub fn is_free(&self, v: Voxel) -> bool {
+        self.cell(v).is_some_and(|c| !self.blocked[c])
+    }
+
+    pub fn is_free_cell(&self, cell: Cell) -> bool {
+        !self.blocked[cell]
+    }
+
+    /// All obstacle voxels, in cell order.
+    pub fn obstacles(&self) -> impl Iterator<Item = Voxel> + '_ {
+        (0..self.len())
+            .filter(|&c| self.blocked[c])
+            .map(|c| self.voxel(c))
+    }
+
+    /// Centre of voxel `v` in ENU metres: `origin_m + voxel_size_m * (x, y, z)`.
+    pub fn center_m(&self, v: Voxel) -> Point3<f64> {
+        let s = self.voxel_size_m;
+        let [ox, oy, oz] = self.origin_m;
+        Point3::new(
+            ox + s * f64::from(v.x),
+            oy + s * f64::from(v.y),
+            oz + s * f64::from(v.z),
+        )
+    }
+
+    /// The free face neighbours of a cell (6-connectivity).
+    pub fn neighbours(&self, cell: Cell) -> impl Iterator<Item = Cell> + '_ {
+        let [dx, dy, dz] = self.dimensions.map(|d| d as usize);
+        let v = self.voxel(cell);
+        let (x, y, z) = (v.x as usize, v.y as usize, v.z as usize);
+        let plane = dx * dy;
+        let candidates = [
+            (x > 0).then(|| cell - 1),
+            (x + 1 < dx).then(|| cell + 1),
+            (y > 0).then(|| cell - dx),
+            (y + 1 < dy).then(|| cell + dx),
+            (z > 0).then(|| cell - plane),
+            (z + 1 < dz).then(|| cell + plane),
+        ];
+        candidates
+            .into_iter()
+            .flatten()
+            .filter(move |&n| !self.blocked[n])
+    }
+
+    /// Breadth-first move counts from `from` to every cell ([`UNREACHABLE`] where none).
+    pub fn distances_from(&self, from: Cell) -> Vec<u32> {
+        let mut dist = vec![UNREACHABLE; self.len()];
+        if self.blocked[from] {
+            return dist;
+        }
+        let mut queue = VecDeque::from([from]);
+        dist[from] = 0;
+        while let Some(c) = queue.pop_front() {
+            let next = dist[c] + 1;
+            for n in self.neighbours(c) {
+                if dist[n] == UNREACHABLE {
+                    dist[n] = next;
+                    queue.push_back(n);
+                }
+            }
+        }
+        dist
+    }
+
+    /// Connected-component label of every free cell (`u32::MAX` for obstacles).
+    pub fn components(&self) -> Vec<u32> {
+        let mut label = vec![u32::MAX; self.len()];
+        let mut next_label = 0;
+        let mut queue = VecDeque::new();
+        for seed in 0..self.len() {
+            if self.blocked[seed] || label[seed] != u32::MAX {
+                continue;
+            }
+            label[seed] = next_label;
+            queue.push_back(seed);
+            while let Some(c) = queue.pop_front() {
+                for n in self.neighbours(c) {
+                    if label[n] == u32::MAX {
+                        label[n] = next_label;
+                        queue.push_back(n);
+                    }
+                }
+            }
+            next_label += 1;
+        }
+        label
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cell_and_voxel_round_trip() {
+        let grid = VoxelGrid::new([4, 3, 2], 1.0, [0.0; 3]);
+        for c in 0..grid.len() {
+            assert_eq!(grid.cell(grid.voxel(c)), Some(c));
+        }
+        assert_eq!(grid.cell(Voxel::new(4, 0, 0)), None);
+    }
+
+    #[test]
+    fn neighbours_respect_bounds_and_obstacles() {
+        let mut grid = VoxelGrid::new([3, 3, 3], 1.0, [0.0; 3]);
+        let centre = grid.cell(Voxel::new(1, 1, 1)).unwrap();
+        assert_eq!(grid.neighbours(centre).count(), 6);
+        grid.block(Voxel::new(1, 1, 2));
+        assert_eq!(grid.neighbours(centre).count(), 5);
+        let corner = grid.cell(Voxel::new(0, 0, 0)).unwrap();
+        assert_eq!(grid.neighbours(corner).count(), 3);
+    }
+
+    #[test]
+    fn distances_go_around_walls() {
+        // A wall at x = 1 with a gap at the top: the way over costs two extra moves.
+        let mut grid = VoxelGrid::new([3, 1, 2], 1.0, [0.0; 3]);
+        grid.block(Voxel::new(1, 0, 0));
+        let d = grid.distances_from(grid.cell(Voxel::new(0, 0, 0)).unwrap());
+        assert_eq!(d[grid.cell(Voxel::new(2, 0, 0)).unwrap()], 4);
+        assert_eq!(d[grid.cell(Voxel::new(1, 0, 0)).unwrap()], UNREACHABLE);
+    }
+
+    #[test]
+    fn components_split_on_a_full_wall() {
+        let mut grid = VoxelGrid::new([3, 1, 1], 1.0, [0.0; 3]);
+        grid.block(Voxel::new(1, 0, 0));
+        let labels = grid.components();
+        assert_ne!(labels[0], labels[2]);
+        assert_eq!(labels[1], u32::MAX);
+    }
+}
