@@ -140,7 +140,8 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         world: WorldSpec {
             dimensions: dimensions.map(i64::from),
             voxel_size_m,
-            origin_m: [0.0, 0.0, 0.0],
+            // Lift the lowest layer one metre off the ground drones take off from.
+            origin_m: [0.0, 0.0, 1.0],
             obstacles: world.obstacles().map(|v| ObstacleSpec::Cell(to_raw(v))).collect(),
         },
         limits: LimitsSpec {

@@ -53,10 +53,7 @@ pub fn parse_yaml(text: &str) -> Result<MissionFile, Problem> {
 /// Splits serde_yaml's "path: message at line L column C" into its parts.
 fn yaml_problem(error: &serde_yaml::Error) -> Problem {
     let line_column = error.location().map(|l| (l.line(), l.column()));
-    let mut message = error.to_string();
-    if let Some(at) = message.rfind(" at line ") {
-        message.truncate(at);
-    }
+    let message = strip_locations(&error.to_string());
     let (path, message) = match message.split_once(": ") {
         Some((path, rest)) if looks_like_field_path(path) => (path.to_string(), rest.to_string()),
         _ => (String::new(), message),
@@ -72,4 +69,24 @@ fn looks_like_field_path(s: &str) -> bool {
     !s.is_empty()
         && s.chars()
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '[' | ']'))
+}
+
+/// Removes " at line L column C" wherever serde_yaml put it; the location is kept apart.
+fn strip_locations(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(at) = rest.find(" at line ") {
+        out.push_str(&rest[..at]);
+        let tail = &rest[at + " at line ".len()..];
+        let after_line = tail.trim_start_matches(|c: char| c.is_ascii_digit());
+        rest = match after_line.strip_prefix(" column ") {
+            Some(col) => col.trim_start_matches(|c: char| c.is_ascii_digit()),
+            None => {
+                out.push_str(" at line ");
+                tail
+            }
+        };
+    }
+    out.push_str(rest);
+    out
 }

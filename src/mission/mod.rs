@@ -6,6 +6,7 @@ pub mod schema;
 mod template;
 mod types;
 mod validate;
+mod write;
 
 pub use error::{MissionError, Problem};
 pub use load::{from_yaml, load, parse_yaml};
@@ -13,3 +14,4 @@ pub use schema::{Autopilot, MissionFile};
 pub use template::TEMPLATE;
 pub use types::{Drone, Group, Limits, LinkSettings, Mission};
 pub use validate::{MAX_DIMENSION, MAX_VOXELS, validate};
+pub use write::to_yaml;

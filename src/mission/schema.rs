@@ -36,14 +36,38 @@ pub struct WorldSpec {
 }
 
 /// One blocked voxel, or an inclusive box of them.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(
-    untagged,
-    expecting = "a voxel [x, y, z] or a box { min: [x, y, z], max: [x, y, z] }"
-)]
+///
+/// Deserialised by hand rather than `#[serde(untagged)]`, which would hide the index
+/// of the bad entry and the reason it was rejected.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
 pub enum ObstacleSpec {
     Cell(RawVoxel),
     Box(BoxSpec),
+}
+
+impl<'de> Deserialize<'de> for ObstacleSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ObstacleVisitor;
+        impl<'de> serde::de::Visitor<'de> for ObstacleVisitor {
+            type Value = ObstacleSpec;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a voxel [x, y, z] or a box { min: [x, y, z], max: [x, y, z] }")
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                RawVoxel::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(ObstacleSpec::Cell)
+            }
+
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                BoxSpec::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(ObstacleSpec::Box)
+            }
+        }
+        deserializer.deserialize_any(ObstacleVisitor)
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

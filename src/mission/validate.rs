@@ -69,6 +69,9 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     }
     check_positive(&mut report, "link.link_timeout_s", link.link_timeout_s, "s");
 
+    if file.groups.is_empty() {
+        report("groups".into(), "a mission needs at least one group of drones".into());
+    }
     if !dims_ok {
         return Err(problems);
     }
@@ -117,9 +120,6 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         }
     }
 
-    if file.groups.is_empty() {
-        report("groups".into(), "a mission needs at least one group of drones".into());
-    }
     let mut group_names: HashMap<&str, usize> = HashMap::new();
     let mut drone_ids: HashMap<&str, String> = HashMap::new();
     let mut system_ids: HashMap<i64, String> = HashMap::new();

@@ -1,0 +1,89 @@
+//! Writes mission files in the compact style people write by hand.
+//!
+//! serde_yaml would put every coordinate on a line of its own; a 100-drone mission
+//! would run to a thousand lines nobody can read.
+
+use super::schema::{MissionFile, ObstacleSpec, RawVoxel};
+use std::fmt::Write;
+
+/// Renders a mission as YAML that [`super::parse_yaml`] reads back unchanged.
+///
+/// ```
+/// use swarmctl::generate::{generate, GenerateOptions};
+/// use swarmctl::mission;
+/// let file = generate(&GenerateOptions { drones: 4, groups: 2, ..Default::default() }).unwrap();
+/// let text = mission::to_yaml(&file);
+/// assert!(text.contains("dimensions: [10, 10, 5]"));
+/// assert_eq!(mission::parse_yaml(&text).unwrap(), file);
+/// ```
+pub fn to_yaml(file: &MissionFile) -> String {
+    let mut out = String::new();
+    // Writing to a String cannot fail.
+    let _ = write_mission(&mut out, file);
+    out
+}
+
+fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
+    writeln!(out, "name: {}", quoted(&file.name))?;
+    if let Some(description) = &file.description {
+        writeln!(out, "description: {}", quoted(description))?;
+    }
+    let world = &file.world;
+    writeln!(out, "world:")?;
+    writeln!(out, "  dimensions: {}", voxel(world.dimensions))?;
+    writeln!(out, "  voxel_size_m: {:?}", world.voxel_size_m)?;
+    writeln!(out, "  origin_m: {:?}", world.origin_m)?;
+    if world.obstacles.is_empty() {
+        writeln!(out, "  obstacles: []")?;
+    } else {
+        writeln!(out, "  obstacles:")?;
+        for obstacle in &world.obstacles {
+            match obstacle {
+                ObstacleSpec::Cell(v) => writeln!(out, "    - {}", voxel(*v))?,
+                ObstacleSpec::Box(b) => writeln!(
+                    out,
+                    "    - {{ min: {}, max: {} }}",
+                    voxel(b.min),
+                    voxel(b.max)
+                )?,
+            }
+        }
+    }
+    let limits = &file.limits;
+    writeln!(out, "limits:")?;
+    writeln!(out, "  max_speed_mps: {:?}", limits.max_speed_mps)?;
+    writeln!(out, "  max_accel_mps2: {:?}", limits.max_accel_mps2)?;
+    writeln!(out, "  safety_distance_m: {:?}", limits.safety_distance_m)?;
+    let link = &file.link;
+    writeln!(out, "link:")?;
+    writeln!(out, "  autopilot: {}", link.autopilot)?;
+    writeln!(out, "  setpoint_rate_hz: {:?}", link.setpoint_rate_hz)?;
+    writeln!(out, "  link_timeout_s: {:?}", link.link_timeout_s)?;
+    writeln!(out, "groups:")?;
+    for group in &file.groups {
+        writeln!(out, "  - name: {}", quoted(&group.name))?;
+        writeln!(out, "    drones:")?;
+        for d in &group.drones {
+            write!(out, "      - {{ id: {}, start: {}", quoted(&d.id), voxel(d.start))?;
+            if let Some(endpoint) = &d.endpoint {
+                write!(out, ", endpoint: {}", quoted(endpoint))?;
+            }
+            if let Some(system_id) = d.system_id {
+                write!(out, ", system_id: {system_id}")?;
+            }
+            writeln!(out, " }}")?;
+        }
+        let goals: Vec<String> = group.goals.iter().map(|&g| voxel(g)).collect();
+        writeln!(out, "    goals: [{}]", goals.join(", "))?;
+    }
+    Ok(())
+}
+
+fn voxel([x, y, z]: RawVoxel) -> String {
+    format!("[{x}, {y}, {z}]")
+}
+
+/// A JSON string literal is a valid YAML double-quoted scalar.
+fn quoted(s: &str) -> String {
+    serde_json::Value::from(s).to_string()
+}
