@@ -7,4 +7,7 @@
 pub mod generate;
 pub mod mission;
 pub mod plan;
+pub mod schedule;
+pub mod trajectory;
+pub mod verify;
 pub mod world;

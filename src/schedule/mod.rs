@@ -1,0 +1,81 @@
+//! From a discrete plan to a continuous-time schedule: the Temporal Plan Graph (TPG)
+//! with safety markers, a Simple Temporal Network (STN) over it, and slack.
+//!
+//! ```text
+//! DiscretePlan ── build ──► Tpg ── solve ──► Schedule ── trajectory::from_schedule ──► Trajectories
+//! ```
+//!
+//! # The safety argument
+//!
+//! Let `s` be the voxel size and `d` the safety distance. Drones fly along the straight
+//! edges between face-adjacent voxel centres (a waiting drone is a point at a centre).
+//!
+//! **Lemma 1 (far edges).** Two lattice edges of length `s` that share no voxel centre are
+//! at least `s` apart: for parallel edges some coordinate differs by a multiple of `s`;
+//! for perpendicular edges in one plane the only closer configuration is a crossing,
+//! and edges cross only at lattice points, which would be a shared centre.
+//! So if `d ≤ s`, drones closer than `d` are on edges sharing a centre `v`.
+//!
+//! **Holding.** A drone *holds* voxel `v` while its distance *along its path* to its
+//! visit of `v`'s centre is less than the hold radius `h = (s + d) / 2`. On an edge
+//! incident to `v`, path distance to `v` equals Euclidean distance `r`.
+//!
+//! **Lemma 2 (close drones share a held voxel).** Take two drones on edges sharing
+//! centre `v`, at distances `r₁`, `r₂` from it, closer than `d`.
+//! * Perpendicular edges: distance `√(r₁² + r₂²) < d`, so `r₁, r₂ < d ≤ h`: both hold `v`.
+//! * Opposite edges: distance `r₁ + r₂ < d`: both hold `v`.
+//! * The same edge `v–w`: distance `|r₁ − r₂| < d`. If both `r < h` both hold `v`.
+//!   Otherwise say `r₁ ≥ h`; then `s − r₁ ≤ s − h < h` (as `d > 0`) and
+//!   `s − r₂ < s − (h − d) = h`: both hold `w`.
+//!
+//! Hence, if `d ≤ s` and no two drones ever hold the same voxel at the same time, no two
+//! drones are ever closer than `d`. This needs `d ≤ s`, and `d ≤ s` is also necessary:
+//! the discrete plan may park drones in face-adjacent voxels, `s` apart. Missions with
+//! `d > s` are rejected ([`ScheduleError::SafetyDistanceTooLarge`]).
+//!
+//! **Markers.** On each move `u → v` (length `s`) put two events at `δ = (s − d) / 2` from
+//! each end: `Enter v` at `δ` after `u` (path distance `s − δ = h` before `v`: the drone
+//! starts holding `v`), and `Leave u` at `δ` before `v` (path distance `h` past `u`: it
+//! stops holding `u`). With `d = s` the markers sit at the centres.
+//!
+//! **Type-2 edges.** The discrete plan orders the visits of every voxel (no two drones
+//! share a voxel at a step). For consecutive visits of `v` by different drones `A` then
+//! `B`, the TPG has the edge `Leave v (A) → Enter v (B)`. Non-consecutive visits are
+//! ordered through the visitors in between, so these edges suffice. Edges implied by
+//! another edge between the same two drones are dropped (a later source on `A` and an
+//! earlier target on `B` imply it through each drone's own order).
+//!
+//! **Continuous time.** Every trajectory moves monotonically along its path and passes
+//! each event's position exactly at the event's scheduled time (rest events: reached
+//! at `reach_s`, left at `leave_s`). Then `A` holds `v` only strictly between its
+//! `Enter v` and `Leave v` times, and `B`'s holding of `v` starts after `A`'s ended:
+//! holdings of a voxel never overlap, which with Lemma 2 proves separation `≥ d` at every
+//! instant — for following on one line, perpendicular entries and exits, and drones
+//! resting side by side alike.
+//!
+//! **Cycles.** A rotation (drones following each other round a loop in one step) and a
+//! swap make the TPG cyclic: no precedence schedule can execute them with a safety
+//! distance, and [`solve`] reports [`ScheduleError::CyclicPlan`].
+//!
+//! # Kinematics
+//!
+//! A polyline with corners cannot be flown at speed with bounded acceleration, so the
+//! drone stops at every corner: motion is a sequence of straight rest-to-rest runs, each
+//! a time-optimal trapezoidal (or triangular) speed [`Profile`](crate::trajectory::Profile).
+//! Runs also end where the discrete plan waits. Events inside a run are passed at fixed
+//! offsets from the run's start, so the STN's timepoints are run starts, its lower bounds
+//! come from the profiles (speed *and* acceleration), and a drone that must not pass a
+//! marker too early starts its run later rather than stopping in mid-air. The earliest
+//! schedule is a longest path in the DAG of runs, O(V + E).
+
+mod error;
+mod execution;
+mod solve;
+mod stn;
+mod tpg;
+
+pub use error::ScheduleError;
+pub use execution::{ExecutionDrone, ExecutionEvent, ExecutionPlan, execution_plan};
+pub use solve::{DroneSchedule, EventTime, Schedule, Segment, solve};
+pub use stn::{Constraint, Stn, StnCycle};
+pub use tpg::{CrossEdge, Event, EventId, EventKind, Tpg, TpgDrone, build, build_with};

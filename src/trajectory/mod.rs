@@ -1,0 +1,192 @@
+//! Continuous trajectories from a [`Schedule`]: straight rest-to-rest runs with
+//! trapezoidal speed profiles, so `|v| ≤ max_speed_mps` and `|a| ≤ max_accel_mps2` hold
+//! exactly, the drone stops at every corner, and it passes every TPG event's position
+//! exactly at the scheduled time (which is what makes the precedences, and with them
+//! the safety distance, hold in continuous time; see [`schedule`](crate::schedule)).
+//!
+//! ```
+//! use swarmctl::mission::from_yaml;
+//! use swarmctl::plan::{DiscretePlan, DronePlan};
+//! use swarmctl::world::Voxel;
+//! let mission = from_yaml(
+//!     "name: one\nworld: { dimensions: [3, 1, 1], voxel_size_m: 1.0 }\n\
+//!      limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.5 }\n\
+//!      groups: [{ name: g, drones: [{ id: a, start: [0, 0, 0] }], goals: [[2, 0, 0]] }]\n",
+//!     std::path::Path::new("one.yaml"),
+//! ).unwrap();
+//! let path = vec![Voxel::new(0, 0, 0), Voxel::new(1, 0, 0), Voxel::new(2, 0, 0)];
+//! let plan = DiscretePlan {
+//!     makespan_steps: 2,
+//!     sum_of_costs_steps: 2,
+//!     drones: vec![DronePlan { id: "a".into(), group: "g".into(), goal: path[2], path }],
+//! };
+//! let timed = swarmctl::trajectory::plan_trajectories(&mission, &plan).unwrap();
+//! // 2 m straight: 1 s accelerating, 1 s cruising, 1 s braking.
+//! assert!((timed.makespan_s - 3.0).abs() < 1e-9);
+//! let samples = timed.sample(20.0);
+//! assert_eq!(samples[0].len(), 61);
+//! assert_eq!(samples[0][60], [3.0, 2.0, 0.0, 0.0]);
+//! ```
+
+mod profile;
+
+pub use profile::Profile;
+
+use crate::mission::Mission;
+use crate::plan::DiscretePlan;
+use crate::schedule::{self, Schedule, ScheduleError};
+use serde::{Deserialize, Serialize};
+
+/// One straight run: at rest at `from_m` until `start_s`, then along `profile` towards
+/// `to_m`, at rest there from `start_s + profile.duration_s()`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Run {
+    pub start_s: f64,
+    pub from_m: [f64; 3],
+    pub to_m: [f64; 3],
+    pub profile: Profile,
+}
+
+impl Run {
+    fn end_s(&self) -> f64 {
+        self.start_s + self.profile.duration_s()
+    }
+
+    fn unit(&self) -> [f64; 3] {
+        let l = self.profile.length_m;
+        if l <= 0.0 {
+            return [0.0; 3];
+        }
+        std::array::from_fn(|i| (self.to_m[i] - self.from_m[i]) / l)
+    }
+
+    fn position_m(&self, time_s: f64) -> [f64; 3] {
+        let x = self.profile.distance_at_m(time_s - self.start_s);
+        let u = self.unit();
+        std::array::from_fn(|i| self.from_m[i] + u[i] * x)
+    }
+
+    fn velocity_mps(&self, time_s: f64) -> [f64; 3] {
+        let v = self.profile.speed_at_mps(time_s - self.start_s);
+        self.unit().map(|c| c * v)
+    }
+}
+
+/// One drone's continuous motion.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DroneTrajectory {
+    pub id: String,
+    pub start_m: [f64; 3],
+    /// Runs in time order, not overlapping.
+    pub runs: Vec<Run>,
+}
+
+impl DroneTrajectory {
+    /// The run in progress or last finished at `time_s`, if any has started.
+    fn run_at(&self, time_s: f64) -> Option<&Run> {
+        let k = self.runs.partition_point(|r| r.start_s <= time_s);
+        k.checked_sub(1).map(|k| &self.runs[k])
+    }
+
+    /// Position at `time_s`, ENU metres (at the start before time zero, at the goal after).
+    pub fn position_m(&self, time_s: f64) -> [f64; 3] {
+        match self.run_at(time_s) {
+            None => self.start_m,
+            Some(r) => r.position_m(time_s),
+        }
+    }
+
+    /// Velocity at `time_s`, ENU m/s: the feed-forward to stream with the position.
+    pub fn velocity_mps(&self, time_s: f64) -> [f64; 3] {
+        match self.run_at(time_s) {
+            Some(r) if time_s < r.end_s() => r.velocity_mps(time_s),
+            _ => [0.0; 3],
+        }
+    }
+
+    /// When the drone comes to rest at its goal for good.
+    pub fn arrival_s(&self) -> f64 {
+        self.runs.last().map_or(0.0, Run::end_s)
+    }
+}
+
+/// Every drone's trajectory, in plan order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Trajectories {
+    /// When the last drone comes to rest at its goal, seconds.
+    pub makespan_s: f64,
+    pub drones: Vec<DroneTrajectory>,
+}
+
+impl Trajectories {
+    /// Samples every drone at `t = k / rate_hz` for `k = 0..=ceil(makespan_s · rate_hz)`,
+    /// as `[t_s, x_m, y_m, z_m]` (ENU). All drones share the sample times; the last
+    /// sample is at or after the makespan, so every drone ends at rest at its goal.
+    pub fn sample(&self, rate_hz: f64) -> Vec<Vec<[f64; 4]>> {
+        let count = sample_count(self.makespan_s, rate_hz);
+        self.drones
+            .iter()
+            .map(|d| sample_drone(d, rate_hz, count))
+            .collect()
+    }
+}
+
+/// Number of samples covering `[0, makespan_s]` at `rate_hz`.
+fn sample_count(makespan_s: f64, rate_hz: f64) -> usize {
+    // Tolerance so that a makespan that is a whole number of periods gets no extra sample.
+    (makespan_s * rate_hz - 1e-9).ceil().max(0.0) as usize + 1
+}
+
+/// Samples one drone, walking its runs forward instead of searching per sample.
+fn sample_drone(drone: &DroneTrajectory, rate_hz: f64, count: usize) -> Vec<[f64; 4]> {
+    let mut out = Vec::with_capacity(count);
+    let mut next = 0;
+    for k in 0..count {
+        let t = k as f64 / rate_hz;
+        while next < drone.runs.len() && drone.runs[next].start_s <= t {
+            next += 1;
+        }
+        let p = match next.checked_sub(1) {
+            None => drone.start_m,
+            Some(r) => drone.runs[r].position_m(t),
+        };
+        out.push([t, p[0], p[1], p[2]]);
+    }
+    out
+}
+
+/// The trajectories that realise `schedule`.
+pub fn from_schedule(schedule: &Schedule) -> Trajectories {
+    let drones = schedule
+        .drones
+        .iter()
+        .map(|d| DroneTrajectory {
+            id: d.id.clone(),
+            start_m: d.start_m,
+            runs: d
+                .segments
+                .iter()
+                .map(|s| Run {
+                    start_s: s.start_s,
+                    from_m: s.from_m,
+                    to_m: s.to_m,
+                    profile: s.profile,
+                })
+                .collect(),
+        })
+        .collect();
+    Trajectories {
+        makespan_s: schedule.makespan_s,
+        drones,
+    }
+}
+
+/// The whole post-processing in one call: TPG, schedule, trajectories.
+pub fn plan_trajectories(
+    mission: &Mission,
+    plan: &DiscretePlan,
+) -> Result<Trajectories, ScheduleError> {
+    let tpg = schedule::build(mission, plan)?;
+    let schedule = schedule::solve(&tpg)?;
+    Ok(from_schedule(&schedule))
+}

@@ -1,0 +1,374 @@
+//! An independent check of sampled trajectories: separation, speed, acceleration,
+//! start and goal at rest.
+//!
+//! It reads nothing but the samples `[t_s, x_m, y_m, z_m]` and the limits, and shares no
+//! code with the scheduler or the trajectory generator it checks.
+//!
+//! **Between samples.** Within a sample interval of length `Δt` each drone is compared
+//! with the straight line between its two samples; the minimum distance of two such
+//! lines is exact (relative motion is linear). A motion whose acceleration stays within
+//! `a` deviates from that chord by at most `a·Δt²/8`, so the true minimum distance is at
+//! least the chord minimum minus `a·Δt²/4` ([`SeparationReport::min_separation_bound_m`]),
+//! a rigorous bound tighter than the speed-only `v·Δt`. One assumption: a drone whose
+//! samples are identical from one sample before the interval to one after it is holding
+//! still (its streamed setpoint does not change), so no margin is charged for it; this
+//! lets drones parked exactly the safety distance apart pass.
+//!
+//! **Scale.** Drones are hashed into cubes of the search radius (plus the motion within one
+//! interval) at each sample time and only drones in neighbouring cubes are compared: about
+//! `O(drones · samples)`, not `O(drones² · samples)`.
+
+use crate::mission::Limits;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+
+/// Float slack for comparisons with limits, so that exact profiles pass.
+const TOLERANCE: f64 = 1e-6;
+
+/// Per-drone figures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DroneReport {
+    /// Highest finite-difference speed between consecutive samples, m/s.
+    pub max_speed_mps: f64,
+    /// Highest second-difference acceleration over three consecutive samples, m/s².
+    pub max_accel_mps2: f64,
+    /// Speed over the first and over the last sample interval, m/s (a drone starting or
+    /// ending at rest under the acceleration limit covers at most `a·Δt²/2` there).
+    pub start_speed_mps: f64,
+    pub end_speed_mps: f64,
+}
+
+/// The closest approach found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ClosestPair {
+    pub first: usize,
+    pub second: usize,
+    /// Time of the closest approach of the interpolated motion, seconds.
+    pub time_s: f64,
+}
+
+/// What the checker found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SeparationReport {
+    /// Pairs farther apart than this were not examined; separations are reported as at
+    /// least this when no pair came closer.
+    pub search_radius_m: f64,
+    /// Smallest distance between two drones at a common sample time.
+    pub min_separation_samples_m: f64,
+    /// Smallest distance between the linearly interpolated motions.
+    pub min_separation_interpolated_m: f64,
+    /// Guaranteed lower bound on the true continuous separation, assuming the
+    /// acceleration limit holds between samples.
+    pub min_separation_bound_m: f64,
+    pub closest: Option<ClosestPair>,
+    pub drones: Vec<DroneReport>,
+    pub max_speed_mps: f64,
+    pub max_accel_mps2: f64,
+    /// Human-readable violations; empty means every limit holds.
+    pub violations: Vec<String>,
+}
+
+impl SeparationReport {
+    /// True when separation, speed, acceleration and rest at both ends all hold.
+    pub fn ok(&self) -> bool {
+        self.violations.is_empty()
+    }
+}
+
+/// Why the samples could not be checked at all.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CheckError {
+    #[error(
+        "drone {drone} has {found} samples, drone 0 has {expected}: all must share sample times"
+    )]
+    SampleCount {
+        drone: usize,
+        expected: usize,
+        found: usize,
+    },
+    #[error("drone {drone}, sample {index}: time {found} s differs from drone 0's {expected} s")]
+    SampleTime {
+        drone: usize,
+        index: usize,
+        expected: f64,
+        found: f64,
+    },
+    #[error("sample times must increase at a constant period (sample {index})")]
+    Period { index: usize },
+}
+
+/// Checks sampled trajectories (all drones sampled at the same times, constant period)
+/// against `limits`.
+///
+/// ```
+/// use swarmctl::mission::Limits;
+/// let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.5 };
+/// let still = |x: f64| (0..5).map(|k| [k as f64 * 0.1, x, 0.0, 0.0]).collect::<Vec<_>>();
+/// let report = swarmctl::verify::check(&[still(0.0), still(0.4)], &limits).unwrap();
+/// assert!((report.min_separation_samples_m - 0.4).abs() < 1e-12);
+/// assert!(!report.ok()); // 0.4 m < 0.5 m
+/// ```
+pub fn check(samples: &[Vec<[f64; 4]>], limits: &Limits) -> Result<SeparationReport, CheckError> {
+    let times = validate_times(samples)?;
+    let period_s = if times.len() > 1 {
+        times[1] - times[0]
+    } else {
+        0.0
+    };
+    let drones: Vec<DroneReport> = samples.iter().map(|s| drone_report(s, period_s)).collect();
+    let max_speed_mps = drones.iter().map(|d| d.max_speed_mps).fold(0.0, f64::max);
+    let max_accel_mps2 = drones.iter().map(|d| d.max_accel_mps2).fold(0.0, f64::max);
+    let search_radius_m = 2.0 * limits.safety_distance_m;
+    let margin_m = limits.max_accel_mps2 * period_s * period_s / 8.0;
+    let sep = separation(samples, &times, search_radius_m, max_speed_mps, margin_m);
+    let mut report = SeparationReport {
+        search_radius_m,
+        min_separation_samples_m: sep.samples_m,
+        min_separation_interpolated_m: sep.interpolated_m,
+        min_separation_bound_m: sep.bound_m,
+        closest: sep.closest,
+        drones,
+        max_speed_mps,
+        max_accel_mps2,
+        violations: Vec::new(),
+    };
+    report.violations = violations(&report, limits, period_s);
+    Ok(report)
+}
+
+fn validate_times(samples: &[Vec<[f64; 4]>]) -> Result<Vec<f64>, CheckError> {
+    let Some(first) = samples.first() else {
+        return Ok(Vec::new());
+    };
+    let times: Vec<f64> = first.iter().map(|s| s[0]).collect();
+    if times.len() > 1 {
+        let period = times[1] - times[0];
+        for (index, w) in times.windows(2).enumerate() {
+            if !(period > 0.0) || ((w[1] - w[0]) - period).abs() > 1e-6 * period.max(1.0) {
+                return Err(CheckError::Period { index: index + 1 });
+            }
+        }
+    }
+    for (drone, s) in samples.iter().enumerate() {
+        if s.len() != times.len() {
+            return Err(CheckError::SampleCount {
+                drone,
+                expected: times.len(),
+                found: s.len(),
+            });
+        }
+        for (index, (sample, &t)) in s.iter().zip(&times).enumerate() {
+            if (sample[0] - t).abs() > 1e-9 {
+                return Err(CheckError::SampleTime {
+                    drone,
+                    index,
+                    expected: t,
+                    found: sample[0],
+                });
+            }
+        }
+    }
+    Ok(times)
+}
+
+fn dist(a: &[f64; 4], b: &[f64; 4]) -> f64 {
+    ((a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2) + (a[3] - b[3]).powi(2)).sqrt()
+}
+
+fn drone_report(s: &[[f64; 4]], period_s: f64) -> DroneReport {
+    if s.len() < 2 || period_s <= 0.0 {
+        return DroneReport {
+            max_speed_mps: 0.0,
+            max_accel_mps2: 0.0,
+            start_speed_mps: 0.0,
+            end_speed_mps: 0.0,
+        };
+    }
+    let speed = |k: usize| dist(&s[k], &s[k + 1]) / period_s;
+    let max_speed_mps = (0..s.len() - 1).map(speed).fold(0.0, f64::max);
+    let max_accel_mps2 = s
+        .windows(3)
+        .map(|w| {
+            let a: [f64; 3] =
+                std::array::from_fn(|i| w[2][i + 1] - 2.0 * w[1][i + 1] + w[0][i + 1]);
+            (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt() / (period_s * period_s)
+        })
+        .fold(0.0, f64::max);
+    DroneReport {
+        max_speed_mps,
+        max_accel_mps2,
+        start_speed_mps: speed(0),
+        end_speed_mps: speed(s.len() - 2),
+    }
+}
+
+struct Separation {
+    samples_m: f64,
+    interpolated_m: f64,
+    bound_m: f64,
+    /// Largest deviation of one drone from its chord within an interval.
+    margin_m: f64,
+    closest: Option<ClosestPair>,
+}
+
+/// Closest approach over all pairs and sample intervals, by spatial hashing.
+fn separation(
+    samples: &[Vec<[f64; 4]>],
+    times: &[f64],
+    radius_m: f64,
+    speed_mps: f64,
+    margin_m: f64,
+) -> Separation {
+    let mut out = Separation {
+        samples_m: radius_m,
+        interpolated_m: radius_m,
+        bound_m: radius_m,
+        margin_m,
+        closest: None,
+    };
+    if samples.len() < 2 || times.is_empty() {
+        return out;
+    }
+    let period_s = if times.len() > 1 {
+        times[1] - times[0]
+    } else {
+        0.0
+    };
+    // Two drones that come within `radius_m` during an interval start it within this.
+    let cell_m = (radius_m + 2.0 * speed_mps * period_s).max(1e-9);
+    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    for k in 0..times.len() {
+        for cell in grid.values_mut() {
+            cell.clear();
+        }
+        for (i, s) in samples.iter().enumerate() {
+            grid.entry(key(&s[k], cell_m)).or_default().push(i as u32);
+        }
+        for (i, s) in samples.iter().enumerate() {
+            let c = key(&s[k], cell_m);
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let Some(others) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                            continue;
+                        };
+                        for &j in others {
+                            let j = j as usize;
+                            if j <= i {
+                                continue;
+                            }
+                            pair(samples, i, j, k, &mut out);
+                        }
+                    }
+                }
+            }
+        }
+        grid.retain(|_, v| !v.is_empty());
+    }
+    out
+}
+
+fn key(s: &[f64; 4], cell_m: f64) -> [i64; 3] {
+    [
+        (s[1] / cell_m).floor() as i64,
+        (s[2] / cell_m).floor() as i64,
+        (s[3] / cell_m).floor() as i64,
+    ]
+}
+
+/// Distance of drones `i` and `j` at sample `k` and over the interval `[k, k + 1]`.
+fn pair(samples: &[Vec<[f64; 4]>], i: usize, j: usize, k: usize, out: &mut Separation) {
+    let (a0, b0) = (&samples[i][k], &samples[j][k]);
+    let d0 = dist(a0, b0);
+    if d0 < out.samples_m {
+        out.samples_m = d0;
+    }
+    let (mut best, mut best_t) = (d0, a0[0]);
+    if let (Some(a1), Some(b1)) = (samples[i].get(k + 1), samples[j].get(k + 1)) {
+        // Relative position r(u) = r0 + u (r1 - r0), u in [0, 1].
+        let r0: [f64; 3] = std::array::from_fn(|c| a0[c + 1] - b0[c + 1]);
+        let r1: [f64; 3] = std::array::from_fn(|c| a1[c + 1] - b1[c + 1]);
+        let dr: [f64; 3] = std::array::from_fn(|c| r1[c] - r0[c]);
+        let dd = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+        let u = if dd > 0.0 {
+            (-(r0[0] * dr[0] + r0[1] * dr[1] + r0[2] * dr[2]) / dd).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let r: [f64; 3] = std::array::from_fn(|c| r0[c] + u * dr[c]);
+        let d = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+        if d < best {
+            best = d;
+            best_t = a0[0] + u * (a1[0] - a0[0]);
+        }
+    }
+    out.interpolated_m = out.interpolated_m.min(best);
+    let bound = best - margin(&samples[i], k, out.margin_m) - margin(&samples[j], k, out.margin_m);
+    if bound < out.bound_m {
+        out.bound_m = bound;
+        out.closest = Some(ClosestPair {
+            first: i,
+            second: j,
+            time_s: best_t,
+        });
+    }
+}
+
+/// How far a drone may stray from its chord over `[k, k + 1]`: nothing if it holds still
+/// from sample `k − 1` to `k + 2`, else `a·Δt²/8`.
+fn margin(s: &[[f64; 4]], k: usize, margin_m: f64) -> f64 {
+    if k + 1 >= s.len() {
+        return 0.0; // no interval after the last sample
+    }
+    let window = &s[k.saturating_sub(1)..(k + 3).min(s.len())];
+    let still = window.iter().all(|p| p[1..] == window[0][1..]);
+    if still { 0.0 } else { margin_m }
+}
+
+fn violations(report: &SeparationReport, limits: &Limits, period_s: f64) -> Vec<String> {
+    let mut v = Vec::new();
+    if report.min_separation_bound_m < limits.safety_distance_m - TOLERANCE {
+        let who = report
+            .closest
+            .as_ref()
+            .map(|c| {
+                format!(
+                    " (drones #{} and #{} near t = {:.3} s)",
+                    c.first, c.second, c.time_s
+                )
+            })
+            .unwrap_or_default();
+        v.push(format!(
+            "separation may drop to {:.4} m, below the safety distance {} m{who}",
+            report.min_separation_bound_m, limits.safety_distance_m
+        ));
+    }
+    let rest_speed = 0.5 * limits.max_accel_mps2 * period_s + TOLERANCE;
+    for (i, d) in report.drones.iter().enumerate() {
+        if d.max_speed_mps > limits.max_speed_mps + TOLERANCE {
+            v.push(format!(
+                "drone #{i} reaches {:.4} m/s, above the limit {} m/s",
+                d.max_speed_mps, limits.max_speed_mps
+            ));
+        }
+        if d.max_accel_mps2 > limits.max_accel_mps2 + TOLERANCE {
+            v.push(format!(
+                "drone #{i} accelerates at {:.4} m/s², above the limit {} m/s²",
+                d.max_accel_mps2, limits.max_accel_mps2
+            ));
+        }
+        if d.start_speed_mps > rest_speed {
+            v.push(format!(
+                "drone #{i} does not start at rest ({:.4} m/s)",
+                d.start_speed_mps
+            ));
+        }
+        if d.end_speed_mps > rest_speed {
+            v.push(format!(
+                "drone #{i} does not end at rest ({:.4} m/s)",
+                d.end_speed_mps
+            ));
+        }
+    }
+    v
+}
