@@ -67,7 +67,9 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
     } = *options;
     let total: usize = dimensions.iter().map(|&d| d as usize).product();
     if dimensions.contains(&0) {
-        return Err(GenerateError::Impossible("every dimension must be at least 1".into()));
+        return Err(GenerateError::Impossible(
+            "every dimension must be at least 1".into(),
+        ));
     }
     if groups == 0 || drones < groups {
         return Err(GenerateError::Impossible(format!(
@@ -142,7 +144,10 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
             voxel_size_m,
             // Lift the lowest layer one metre off the ground drones take off from.
             origin_m: [0.0, 0.0, 1.0],
-            obstacles: world.obstacles().map(|v| ObstacleSpec::Cell(to_raw(v))).collect(),
+            obstacles: world
+                .obstacles()
+                .map(|v| ObstacleSpec::Cell(to_raw(v)))
+                .collect(),
         },
         limits: LimitsSpec {
             max_speed_mps: 1.0,
@@ -173,7 +178,11 @@ mod tests {
     fn same_seed_same_mission_other_seed_other_mission() {
         let a = generate(&GenerateOptions::default()).unwrap();
         let b = generate(&GenerateOptions::default()).unwrap();
-        let c = generate(&GenerateOptions { seed: 2, ..Default::default() }).unwrap();
+        let c = generate(&GenerateOptions {
+            seed: 2,
+            ..Default::default()
+        })
+        .unwrap();
         assert_eq!(a, b);
         assert_ne!(a.world.obstacles, c.world.obstacles);
     }
@@ -181,8 +190,13 @@ mod tests {
     #[test]
     fn paper_setting_is_valid_for_twenty_seeds() {
         for seed in 1..=20 {
-            let file = generate(&GenerateOptions { seed, ..Default::default() }).unwrap();
-            let mission = crate::mission::validate(&file).unwrap_or_else(|p| panic!("seed {seed}: {p:?}"));
+            let file = generate(&GenerateOptions {
+                seed,
+                ..Default::default()
+            })
+            .unwrap();
+            let mission =
+                crate::mission::validate(&file).unwrap_or_else(|p| panic!("seed {seed}: {p:?}"));
             assert_eq!(mission.drone_count(), 100);
             assert_eq!(mission.world.free_count(), 500 - 150);
         }
@@ -190,7 +204,14 @@ mod tests {
 
     #[test]
     fn refuses_what_cannot_fit() {
-        let too_many = GenerateOptions { obstacles: 450, drones: 100, ..Default::default() };
-        assert!(matches!(generate(&too_many), Err(GenerateError::Impossible(_))));
+        let too_many = GenerateOptions {
+            obstacles: 450,
+            drones: 100,
+            ..Default::default()
+        };
+        assert!(matches!(
+            generate(&too_many),
+            Err(GenerateError::Impossible(_))
+        ));
     }
 }

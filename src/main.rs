@@ -19,6 +19,8 @@ enum Command {
     Check(commands::check::Args),
     /// Generate a random mission like the paper's experiments.
     Gen(commands::generate::Args),
+    /// Plan collision-free paths (makespan-optimal TAPF) and write the plan file.
+    Plan(commands::plan::Args),
     /// Print a commented mission template documenting every field.
     Template(commands::template::Args),
 }
@@ -28,6 +30,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Check(args) => commands::check::run(args),
         Command::Gen(args) => commands::generate::run(args),
+        Command::Plan(args) => commands::plan::run(args),
         Command::Template(args) => commands::template::run(args),
     };
     match result {

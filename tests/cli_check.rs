@@ -25,7 +25,10 @@ fn every_example_mission_passes_check() {
             count += 1;
         }
     }
-    assert!(count >= 4, "expected the four example missions, found {count}");
+    assert!(
+        count >= 4,
+        "expected the four example missions, found {count}"
+    );
 }
 
 #[test]
@@ -34,7 +37,15 @@ fn generated_paper_scale_missions_pass_check_for_seeds_1_to_20() {
     for seed in 1..=20 {
         let file = dir.path().join(format!("gen-{seed}.yaml"));
         swarmctl()
-            .args(["gen", "--size", "10x10x5", "--obstacles", "150", "--drones", "100"])
+            .args([
+                "gen",
+                "--size",
+                "10x10x5",
+                "--obstacles",
+                "150",
+                "--drones",
+                "100",
+            ])
             .args(["--groups", "5", "--seed", &seed.to_string(), "-o"])
             .arg(&file)
             .assert()
@@ -65,7 +76,17 @@ fn gen_is_deterministic_for_a_seed() {
 #[test]
 fn gen_rejects_impossible_requests() {
     swarmctl()
-        .args(["gen", "--size", "2x2x2", "--obstacles", "5", "--drones", "4", "--groups", "2"])
+        .args([
+            "gen",
+            "--size",
+            "2x2x2",
+            "--obstacles",
+            "5",
+            "--drones",
+            "4",
+            "--groups",
+            "2",
+        ])
         .assert()
         .failure()
         .stderr(contains("do not fit"));
@@ -89,14 +110,20 @@ fn check_fails_with_file_path_and_reason() {
         .assert()
         .failure()
         .stderr(contains("bad.yaml"))
-        .stderr(contains("groups[0].drones[1].start: [0, 9, 0] is outside the world"));
+        .stderr(contains(
+            "groups[0].drones[1].start: [0, 9, 0] is outside the world",
+        ));
 }
 
 #[test]
 fn template_is_valid_and_commented() {
     let dir = tempfile::tempdir().expect("temp dir");
     let file = dir.path().join("t.yaml");
-    swarmctl().args(["template", "-o"]).arg(&file).assert().success();
+    swarmctl()
+        .args(["template", "-o"])
+        .arg(&file)
+        .assert()
+        .success();
     let text = std::fs::read_to_string(&file).expect("written");
     assert!(text.lines().filter(|l| l.contains('#')).count() > 20);
     swarmctl().arg("check").arg(&file).assert().success();

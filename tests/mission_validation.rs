@@ -25,12 +25,18 @@ groups:
     goals: [[0, 3, 0]]
 "#;
 
-fn problems_of(yaml: &str) -> Vec<(String, String, Option<(usize, usize)>)> {
+/// (field path, message, line and column) of each problem found.
+type Found = Vec<(String, String, Option<(usize, usize)>)>;
+
+fn problems_of(yaml: &str) -> Found {
     match mission::from_yaml(yaml, "case.yaml".as_ref()) {
         Ok(_) => Vec::new(),
         Err(e) => {
             let rendered = e.to_string();
-            assert!(rendered.starts_with("case.yaml"), "file not named: {rendered}");
+            assert!(
+                rendered.starts_with("case.yaml"),
+                "file not named: {rendered}"
+            );
             e.problems()
                 .iter()
                 .map(|p| (p.path.clone(), p.message.clone(), p.line_column))
@@ -46,44 +52,296 @@ fn base_mission_is_valid() {
 
 /// (what, replace this, with this, expected path, expected words in the reason, has line)
 const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
-    ("yaml syntax", "groups:\n", "groups: [\n", "", "did not find expected", true),
-    ("type error", "max_speed_mps: 1.0", "max_speed_mps: fast", "limits.max_speed_mps", "invalid type", true),
-    ("unknown field (typo)", "{ id: b1, start:", "{ id: b1, strat:", "groups[0].drones[0]", "unknown field `strat`", true),
-    ("unknown top-level field", "name: base", "name: base\nspeed: 3", "", "unknown field `speed`", true),
-    ("missing field", "voxel_size_m: 1.0\n", "\n", "world", "missing field `voxel_size_m`", true),
-    ("zero dimension", "[6, 4, 2]", "[6, 0, 2]", "world.dimensions", "y extent 0", false),
-    ("huge dimensions", "[6, 4, 2]", "[4096, 4096, 4096]", "world.dimensions", "at most", false),
-    ("negative voxel size", "voxel_size_m: 1.0", "voxel_size_m: -0.5", "world.voxel_size_m", "positive", false),
-    ("zero speed", "max_speed_mps: 1.0", "max_speed_mps: 0", "limits.max_speed_mps", "positive", false),
-    ("zero acceleration", "max_accel_mps2: 2.0", "max_accel_mps2: 0.0", "limits.max_accel_mps2", "positive", false),
-    ("negative safety distance", "safety_distance_m: 0.3", "safety_distance_m: -1", "limits.safety_distance_m", "positive", false),
-    ("setpoint rate too low", "setpoint_rate_hz: 20", "setpoint_rate_hz: 1", "link.setpoint_rate_hz", "outside", false),
-    ("unknown autopilot", "autopilot: px4", "autopilot: betaflight", "link.autopilot", "unknown variant `betaflight`", true),
-    ("obstacle out of bounds", "- [3, 0, 0]", "- [6, 0, 0]", "world.obstacles[0]", "outside the world", false),
-    ("obstacle box out of bounds", "max: [3, 3, 1]", "max: [3, 4, 1]", "world.obstacles[1].max", "outside the world", false),
-    ("obstacle box inverted", "min: [3, 2, 0], max: [3, 3, 1]", "min: [3, 3, 1], max: [3, 2, 0]", "world.obstacles[1]", "exceeds max", false),
-    ("obstacle malformed", "- [3, 0, 0]", "- [3, 0]", "world.obstacles[0]", "expected an array of length 3", true),
-    ("start out of bounds", "start: [0, 0, 0]", "start: [0, -1, 0]", "groups[0].drones[0].start", "outside the world", false),
-    ("goal out of bounds", "[[5, 0, 0], [5, 1, 0]]", "[[5, 0, 9], [5, 1, 0]]", "groups[0].goals[0]", "outside the world", false),
-    ("start in obstacle", "start: [0, 0, 0]", "start: [3, 0, 0]", "groups[0].drones[0].start", "inside an obstacle", false),
-    ("goal in obstacle", "goals: [[0, 3, 0]]", "goals: [[3, 3, 1]]", "groups[1].goals[0]", "inside an obstacle", false),
-    ("two drones on one start", "start: [0, 1, 0]", "start: [0, 0, 0]", "groups[0].drones[1].start", "already the start of groups[0].drones[0]", false),
-    ("goal twice in a group", "[[5, 0, 0], [5, 1, 0]]", "[[5, 0, 0], [5, 0, 0]]", "groups[0].goals[1]", "already used by groups[0].goals[0]", false),
-    ("goal twice across groups", "goals: [[0, 3, 0]]", "goals: [[5, 1, 0]]", "groups[1].goals[0]", "already used by groups[0].goals[1]", false),
-    ("too few goals", "[[5, 0, 0], [5, 1, 0]]", "[[5, 0, 0]]", "groups[0].goals", "1 goal(s) for 2 drone(s)", false),
-    ("too many goals", "goals: [[0, 3, 0]]", "goals: [[0, 3, 0], [0, 2, 0]]", "groups[1].goals", "2 goal(s) for 1 drone(s)", false),
-    ("duplicate drone id", "{ id: r1,", "{ id: b1,", "groups[1].drones[0].id", "already used by groups[0].drones[0]", false),
-    ("bad drone id", "{ id: r1,", "{ id: \"r 1\",", "groups[1].drones[0].id", "contains ' '", false),
-    ("duplicate system id", "system_id: 2", "system_id: 1", "groups[0].drones[1].system_id", "already used", false),
-    ("system id out of range", "system_id: 2", "system_id: 255", "groups[0].drones[1].system_id", "not a vehicle system id", false),
-    ("bad endpoint", "{ id: r1, start: [5, 3, 0] }", "{ id: r1, start: [5, 3, 0], endpoint: \"udp:1.2.3.4\" }", "groups[1].drones[0].endpoint", "unknown scheme", false),
-    ("endpoint without port", "{ id: r1, start: [5, 3, 0] }", "{ id: r1, start: [5, 3, 0], endpoint: \"udpout:127.0.0.1\" }", "groups[1].drones[0].endpoint", "HOST:PORT", false),
-    ("empty group", "drones:\n      - { id: r1, start: [5, 3, 0] }\n    goals: [[0, 3, 0]]", "drones: []\n    goals: []", "groups[1].drones", "has no drones", false),
-    ("no groups", "groups:\n", "groups: []\nx_groups:\n", "", "unknown field `x_groups`", true),
-    ("duplicate group name", "name: red", "name: blue", "groups[1].name", "already used by groups[0]", false),
+    (
+        "yaml syntax",
+        "groups:\n",
+        "groups: [\n",
+        "",
+        "did not find expected",
+        true,
+    ),
+    (
+        "type error",
+        "max_speed_mps: 1.0",
+        "max_speed_mps: fast",
+        "limits.max_speed_mps",
+        "invalid type",
+        true,
+    ),
+    (
+        "unknown field (typo)",
+        "{ id: b1, start:",
+        "{ id: b1, strat:",
+        "groups[0].drones[0]",
+        "unknown field `strat`",
+        true,
+    ),
+    (
+        "unknown top-level field",
+        "name: base",
+        "name: base\nspeed: 3",
+        "",
+        "unknown field `speed`",
+        true,
+    ),
+    (
+        "missing field",
+        "voxel_size_m: 1.0\n",
+        "\n",
+        "world",
+        "missing field `voxel_size_m`",
+        true,
+    ),
+    (
+        "zero dimension",
+        "[6, 4, 2]",
+        "[6, 0, 2]",
+        "world.dimensions",
+        "y extent 0",
+        false,
+    ),
+    (
+        "huge dimensions",
+        "[6, 4, 2]",
+        "[4096, 4096, 4096]",
+        "world.dimensions",
+        "at most",
+        false,
+    ),
+    (
+        "negative voxel size",
+        "voxel_size_m: 1.0",
+        "voxel_size_m: -0.5",
+        "world.voxel_size_m",
+        "positive",
+        false,
+    ),
+    (
+        "zero speed",
+        "max_speed_mps: 1.0",
+        "max_speed_mps: 0",
+        "limits.max_speed_mps",
+        "positive",
+        false,
+    ),
+    (
+        "zero acceleration",
+        "max_accel_mps2: 2.0",
+        "max_accel_mps2: 0.0",
+        "limits.max_accel_mps2",
+        "positive",
+        false,
+    ),
+    (
+        "negative safety distance",
+        "safety_distance_m: 0.3",
+        "safety_distance_m: -1",
+        "limits.safety_distance_m",
+        "positive",
+        false,
+    ),
+    (
+        "setpoint rate too low",
+        "setpoint_rate_hz: 20",
+        "setpoint_rate_hz: 1",
+        "link.setpoint_rate_hz",
+        "outside",
+        false,
+    ),
+    (
+        "unknown autopilot",
+        "autopilot: px4",
+        "autopilot: betaflight",
+        "link.autopilot",
+        "unknown variant `betaflight`",
+        true,
+    ),
+    (
+        "obstacle out of bounds",
+        "- [3, 0, 0]",
+        "- [6, 0, 0]",
+        "world.obstacles[0]",
+        "outside the world",
+        false,
+    ),
+    (
+        "obstacle box out of bounds",
+        "max: [3, 3, 1]",
+        "max: [3, 4, 1]",
+        "world.obstacles[1].max",
+        "outside the world",
+        false,
+    ),
+    (
+        "obstacle box inverted",
+        "min: [3, 2, 0], max: [3, 3, 1]",
+        "min: [3, 3, 1], max: [3, 2, 0]",
+        "world.obstacles[1]",
+        "exceeds max",
+        false,
+    ),
+    (
+        "obstacle malformed",
+        "- [3, 0, 0]",
+        "- [3, 0]",
+        "world.obstacles[0]",
+        "expected an array of length 3",
+        true,
+    ),
+    (
+        "start out of bounds",
+        "start: [0, 0, 0]",
+        "start: [0, -1, 0]",
+        "groups[0].drones[0].start",
+        "outside the world",
+        false,
+    ),
+    (
+        "goal out of bounds",
+        "[[5, 0, 0], [5, 1, 0]]",
+        "[[5, 0, 9], [5, 1, 0]]",
+        "groups[0].goals[0]",
+        "outside the world",
+        false,
+    ),
+    (
+        "start in obstacle",
+        "start: [0, 0, 0]",
+        "start: [3, 0, 0]",
+        "groups[0].drones[0].start",
+        "inside an obstacle",
+        false,
+    ),
+    (
+        "goal in obstacle",
+        "goals: [[0, 3, 0]]",
+        "goals: [[3, 3, 1]]",
+        "groups[1].goals[0]",
+        "inside an obstacle",
+        false,
+    ),
+    (
+        "two drones on one start",
+        "start: [0, 1, 0]",
+        "start: [0, 0, 0]",
+        "groups[0].drones[1].start",
+        "already the start of groups[0].drones[0]",
+        false,
+    ),
+    (
+        "goal twice in a group",
+        "[[5, 0, 0], [5, 1, 0]]",
+        "[[5, 0, 0], [5, 0, 0]]",
+        "groups[0].goals[1]",
+        "already used by groups[0].goals[0]",
+        false,
+    ),
+    (
+        "goal twice across groups",
+        "goals: [[0, 3, 0]]",
+        "goals: [[5, 1, 0]]",
+        "groups[1].goals[0]",
+        "already used by groups[0].goals[1]",
+        false,
+    ),
+    (
+        "too few goals",
+        "[[5, 0, 0], [5, 1, 0]]",
+        "[[5, 0, 0]]",
+        "groups[0].goals",
+        "1 goal(s) for 2 drone(s)",
+        false,
+    ),
+    (
+        "too many goals",
+        "goals: [[0, 3, 0]]",
+        "goals: [[0, 3, 0], [0, 2, 0]]",
+        "groups[1].goals",
+        "2 goal(s) for 1 drone(s)",
+        false,
+    ),
+    (
+        "duplicate drone id",
+        "{ id: r1,",
+        "{ id: b1,",
+        "groups[1].drones[0].id",
+        "already used by groups[0].drones[0]",
+        false,
+    ),
+    (
+        "bad drone id",
+        "{ id: r1,",
+        "{ id: \"r 1\",",
+        "groups[1].drones[0].id",
+        "contains ' '",
+        false,
+    ),
+    (
+        "duplicate system id",
+        "system_id: 2",
+        "system_id: 1",
+        "groups[0].drones[1].system_id",
+        "already used",
+        false,
+    ),
+    (
+        "system id out of range",
+        "system_id: 2",
+        "system_id: 255",
+        "groups[0].drones[1].system_id",
+        "not a vehicle system id",
+        false,
+    ),
+    (
+        "bad endpoint",
+        "{ id: r1, start: [5, 3, 0] }",
+        "{ id: r1, start: [5, 3, 0], endpoint: \"udp:1.2.3.4\" }",
+        "groups[1].drones[0].endpoint",
+        "unknown scheme",
+        false,
+    ),
+    (
+        "endpoint without port",
+        "{ id: r1, start: [5, 3, 0] }",
+        "{ id: r1, start: [5, 3, 0], endpoint: \"udpout:127.0.0.1\" }",
+        "groups[1].drones[0].endpoint",
+        "HOST:PORT",
+        false,
+    ),
+    (
+        "empty group",
+        "drones:\n      - { id: r1, start: [5, 3, 0] }\n    goals: [[0, 3, 0]]",
+        "drones: []\n    goals: []",
+        "groups[1].drones",
+        "has no drones",
+        false,
+    ),
+    (
+        "no groups",
+        "groups:\n",
+        "groups: []\nx_groups:\n",
+        "",
+        "unknown field `x_groups`",
+        true,
+    ),
+    (
+        "duplicate group name",
+        "name: red",
+        "name: blue",
+        "groups[1].name",
+        "already used by groups[0]",
+        false,
+    ),
     // A wall across x = 3 (the box plus the single obstacle) leaves only y = 1 open;
     // closing it walls every drone off from its goals.
-    ("drone walled off", "- [3, 0, 0]", "- { min: [3, 0, 0], max: [3, 1, 1] }", "groups[1].drones[0]", "can reach no goal", false),
+    (
+        "drone walled off",
+        "- [3, 0, 0]",
+        "- { min: [3, 0, 0], max: [3, 1, 1] }",
+        "groups[1].drones[0]",
+        "can reach no goal",
+        false,
+    ),
 ];
 
 #[test]
@@ -92,11 +350,17 @@ fn every_bad_input_is_reported_with_path_and_reason() {
         assert!(BASE.contains(from), "{what}: base lacks {from:?}");
         let yaml = BASE.replacen(from, to, 1);
         let problems = problems_of(&yaml);
-        let hit = problems.iter().find(|(p, m, _)| p == path && m.contains(reason));
+        let hit = problems
+            .iter()
+            .find(|(p, m, _)| p == path && m.contains(reason));
         let Some((_, _, line_column)) = hit else {
             panic!("{what}: expected `{path}: …{reason}…`, got {problems:#?}");
         };
-        assert_eq!(line_column.is_some(), has_line, "{what}: line/column {line_column:?}");
+        assert_eq!(
+            line_column.is_some(),
+            has_line,
+            "{what}: line/column {line_column:?}"
+        );
     }
 }
 
@@ -106,7 +370,11 @@ fn unmatched_group_names_its_drones() {
     let yaml = BASE
         .replacen("- [3, 0, 0]", "- { min: [3, 0, 0], max: [3, 1, 1] }", 1)
         .replacen("[[5, 0, 0], [5, 1, 0]]", "[[1, 0, 0], [5, 1, 0]]", 1)
-        .replacen("{ id: r1, start: [5, 3, 0] }", "{ id: r1, start: [5, 3, 1] }", 1)
+        .replacen(
+            "{ id: r1, start: [5, 3, 0] }",
+            "{ id: r1, start: [5, 3, 1] }",
+            1,
+        )
         .replacen("goals: [[0, 3, 0]]", "goals: [[4, 3, 0]]", 1);
     let problems = problems_of(&yaml);
     assert!(
@@ -121,15 +389,38 @@ fn unmatched_group_names_its_drones() {
 #[test]
 fn missing_file_names_the_file() {
     let err = mission::load("no/such/mission.yaml".as_ref()).unwrap_err();
-    assert!(err.to_string().contains("no/such/mission.yaml: cannot read"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("no/such/mission.yaml: cannot read"),
+        "{err}"
+    );
 }
 
 /// Arbitrary YAML built from the schema's own vocabulary, so the fuzzer reaches deep fields.
 fn yaml_value() -> impl Strategy<Value = serde_yaml::Value> {
     let key = prop::sample::select(vec![
-        "name", "world", "dimensions", "voxel_size_m", "origin_m", "obstacles", "min", "max",
-        "limits", "max_speed_mps", "max_accel_mps2", "safety_distance_m", "link", "autopilot",
-        "setpoint_rate_hz", "groups", "drones", "goals", "id", "start", "endpoint", "system_id",
+        "name",
+        "world",
+        "dimensions",
+        "voxel_size_m",
+        "origin_m",
+        "obstacles",
+        "min",
+        "max",
+        "limits",
+        "max_speed_mps",
+        "max_accel_mps2",
+        "safety_distance_m",
+        "link",
+        "autopilot",
+        "setpoint_rate_hz",
+        "groups",
+        "drones",
+        "goals",
+        "id",
+        "start",
+        "endpoint",
+        "system_id",
     ]);
     let leaf = prop_oneof![
         any::<i64>().prop_map(|i| serde_yaml::Value::from(i % 20)),
@@ -144,7 +435,10 @@ fn yaml_value() -> impl Strategy<Value = serde_yaml::Value> {
             prop::collection::vec(inner.clone(), 0..5).prop_map(serde_yaml::Value::Sequence),
             prop::collection::vec((key.clone(), inner), 0..6).prop_map(|pairs| {
                 serde_yaml::Value::Mapping(
-                    pairs.into_iter().map(|(k, v)| (serde_yaml::Value::from(k), v)).collect(),
+                    pairs
+                        .into_iter()
+                        .map(|(k, v)| (serde_yaml::Value::from(k), v))
+                        .collect(),
                 )
             }),
         ]

@@ -20,13 +20,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             }
         }
     }
-    Ok(if all_valid { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+    Ok(if all_valid {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }
 
 fn print_summary(path: &std::path::Path, m: &mission::Mission) {
     let [x, y, z] = m.world.dimensions();
-    let lower_bound = plan::makespan_lower_bound(m)
-        .map_or_else(|| "none (unmatched group)".to_string(), |lb| format!("{lb} steps"));
+    let lower_bound = plan::makespan_lower_bound(m).map_or_else(
+        || "none (unmatched group)".to_string(),
+        |lb| format!("{lb} steps"),
+    );
     println!("{}: valid mission {:?}", path.display(), m.name);
     println!(
         "  world      {x}×{y}×{z} voxels of {} m, {} free, {} obstacles",

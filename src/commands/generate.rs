@@ -33,7 +33,9 @@ fn parse_size(s: &str) -> Result<[u32; 3], String> {
     let parsed: Result<Vec<u32>, _> = parts.iter().map(|p| p.trim().parse::<u32>()).collect();
     match parsed.as_deref() {
         Ok(&[x, y, z]) if x > 0 && y > 0 && z > 0 => Ok([x, y, z]),
-        _ => Err(format!("expected three positive integers like 10x10x5, got {s:?}")),
+        _ => Err(format!(
+            "expected three positive integers like 10x10x5, got {s:?}"
+        )),
     }
 }
 
@@ -58,7 +60,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let yaml = header + &swarmctl::mission::to_yaml(&file);
     match &args.output {
         Some(path) => {
-            std::fs::write(path, yaml).with_context(|| format!("cannot write {}", path.display()))?;
+            std::fs::write(path, yaml)
+                .with_context(|| format!("cannot write {}", path.display()))?;
             eprintln!("wrote {} ({})", path.display(), file.name);
         }
         None => print!("{yaml}"),

@@ -2,4 +2,5 @@
 
 pub mod check;
 pub mod generate;
+pub mod plan;
 pub mod template;

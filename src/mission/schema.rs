@@ -56,12 +56,18 @@ impl<'de> Deserialize<'de> for ObstacleSpec {
                 f.write_str("a voxel [x, y, z] or a box { min: [x, y, z], max: [x, y, z] }")
             }
 
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> Result<Self::Value, A::Error> {
                 RawVoxel::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
                     .map(ObstacleSpec::Cell)
             }
 
-            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Self::Value, A::Error> {
                 BoxSpec::deserialize(serde::de::value::MapAccessDeserializer::new(map))
                     .map(ObstacleSpec::Box)
             }

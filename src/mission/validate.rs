@@ -52,9 +52,24 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         report("world.origin_m".into(), "must be finite numbers".into());
     }
     let limits = &file.limits;
-    check_positive(&mut report, "limits.max_speed_mps", limits.max_speed_mps, "m/s");
-    check_positive(&mut report, "limits.max_accel_mps2", limits.max_accel_mps2, "m/s²");
-    check_positive(&mut report, "limits.safety_distance_m", limits.safety_distance_m, "m");
+    check_positive(
+        &mut report,
+        "limits.max_speed_mps",
+        limits.max_speed_mps,
+        "m/s",
+    );
+    check_positive(
+        &mut report,
+        "limits.max_accel_mps2",
+        limits.max_accel_mps2,
+        "m/s²",
+    );
+    check_positive(
+        &mut report,
+        "limits.safety_distance_m",
+        limits.safety_distance_m,
+        "m",
+    );
     let link = &file.link;
     if !SETPOINT_RATES_HZ.contains(&link.setpoint_rate_hz) {
         report(
@@ -70,7 +85,10 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     check_positive(&mut report, "link.link_timeout_s", link.link_timeout_s, "s");
 
     if file.groups.is_empty() {
-        report("groups".into(), "a mission needs at least one group of drones".into());
+        report(
+            "groups".into(),
+            "a mission needs at least one group of drones".into(),
+        );
     }
     if !dims_ok {
         return Err(problems);
@@ -78,7 +96,10 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     let dims = dims.map(|d| d as u32);
     let mut world = VoxelGrid::new(dims, voxel_size_m, file.world.origin_m);
     let in_world = |raw: RawVoxel| -> Option<Voxel> {
-        let ok = raw.iter().zip(&dims).all(|(&c, &d)| (0..i64::from(d)).contains(&c));
+        let ok = raw
+            .iter()
+            .zip(&dims)
+            .all(|(&c, &d)| (0..i64::from(d)).contains(&c));
         ok.then(|| Voxel::new(raw[0] as u32, raw[1] as u32, raw[2] as u32))
     };
     let outside = |raw: RawVoxel| {
@@ -100,7 +121,11 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
                 let (min, max) = match (in_world(b.min), in_world(b.max)) {
                     (Some(min), Some(max)) => (min, max),
                     (min, _) => {
-                        let (field, raw) = if min.is_none() { ("min", b.min) } else { ("max", b.max) };
+                        let (field, raw) = if min.is_none() {
+                            ("min", b.min)
+                        } else {
+                            ("max", b.max)
+                        };
                         report(format!("{path}.{field}"), outside(raw));
                         continue;
                     }
@@ -138,7 +163,10 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             );
         }
         if g.drones.is_empty() {
-            report(format!("{gpath}.drones"), format!("group {:?} has no drones", g.name));
+            report(
+                format!("{gpath}.drones"),
+                format!("group {:?} has no drones", g.name),
+            );
         }
         if g.goals.len() != g.drones.len() {
             report(
@@ -157,7 +185,10 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             if let Err(why) = check_drone_id(&d.id) {
                 report(format!("{dpath}.id"), why);
             } else if let Some(first) = drone_ids.insert(&d.id, dpath.clone()) {
-                report(format!("{dpath}.id"), format!("drone id {:?} is already used by {first}", d.id));
+                report(
+                    format!("{dpath}.id"),
+                    format!("drone id {:?} is already used by {first}", d.id),
+                );
             }
             let start = match in_world(d.start) {
                 None => {
@@ -165,33 +196,42 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
                     None
                 }
                 Some(v) if world.is_blocked(v) => {
-                    report(format!("{dpath}.start"), format!("{v} is inside an obstacle"));
+                    report(
+                        format!("{dpath}.start"),
+                        format!("{v} is inside an obstacle"),
+                    );
                     None
                 }
                 Some(v) => {
                     if let Some(first) = starts.insert(v, dpath.clone()) {
-                        report(format!("{dpath}.start"), format!("{v} is already the start of {first}"));
+                        report(
+                            format!("{dpath}.start"),
+                            format!("{v} is already the start of {first}"),
+                        );
                     }
                     Some(v)
                 }
             };
-            if let Some(endpoint) = &d.endpoint {
-                if let Err(why) = check_endpoint(endpoint) {
-                    report(format!("{dpath}.endpoint"), why);
-                }
+            if let Some(Err(why)) = d.endpoint.as_deref().map(check_endpoint) {
+                report(format!("{dpath}.endpoint"), why);
             }
             let system_id = match d.system_id {
                 None => None,
                 Some(id) if !SYSTEM_IDS.contains(&id) => {
                     report(
                         format!("{dpath}.system_id"),
-                        format!("{id} is not a vehicle system id (1 to 254; 0 is broadcast, 255 the ground station)"),
+                        format!(
+                            "{id} is not a vehicle system id (1 to 254; 0 is broadcast, 255 the ground station)"
+                        ),
                     );
                     None
                 }
                 Some(id) => {
                     if let Some(first) = system_ids.insert(id, dpath.clone()) {
-                        report(format!("{dpath}.system_id"), format!("system id {id} is already used by {first}"));
+                        report(
+                            format!("{dpath}.system_id"),
+                            format!("system id {id} is already used by {first}"),
+                        );
                     }
                     Some(id as u8)
                 }
@@ -210,7 +250,9 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             let kpath = format!("{gpath}.goals[{ki}]");
             match in_world(raw) {
                 None => report(kpath, outside(raw)),
-                Some(v) if world.is_blocked(v) => report(kpath, format!("{v} is inside an obstacle")),
+                Some(v) if world.is_blocked(v) => {
+                    report(kpath, format!("{v} is inside an obstacle"))
+                }
                 Some(v) => {
                     if let Some(first) = goals_seen.insert(v, kpath.clone()) {
                         report(kpath, format!("goal {v} is already used by {first}"));
@@ -253,7 +295,10 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
 
 fn check_positive(report: &mut impl FnMut(String, String), path: &str, value: f64, unit: &str) {
     if !(value.is_finite() && value > 0.0) {
-        report(path.into(), format!("must be a positive number of {unit}, got {value}"));
+        report(
+            path.into(),
+            format!("must be a positive number of {unit}, got {value}"),
+        );
     }
 }
 
@@ -266,7 +311,10 @@ fn check_drone_id(id: &str) -> Result<(), String> {
     if id.len() > 64 {
         return Err(format!("{id:?} is longer than 64 characters"));
     }
-    if let Some(c) = id.chars().find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))) {
+    if let Some(c) = id
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.')))
+    {
         return Err(format!(
             "{id:?} contains {c:?}; use letters, digits, '-', '_' or '.'"
         ));
@@ -278,12 +326,16 @@ fn check_drone_id(id: &str) -> Result<(), String> {
 fn check_endpoint(endpoint: &str) -> Result<(), String> {
     const NETWORK: [&str; 5] = ["udpin", "udpout", "udpcast", "tcpin", "tcpout"];
     let Some((scheme, rest)) = endpoint.split_once(':') else {
-        return Err(format!("{endpoint:?} lacks a scheme; write e.g. \"udpout:127.0.0.1:14541\""));
+        return Err(format!(
+            "{endpoint:?} lacks a scheme; write e.g. \"udpout:127.0.0.1:14541\""
+        ));
     };
     if scheme == "serial" {
         return match rest.rsplit_once(':') {
             Some((port, baud)) if !port.is_empty() && baud.parse::<u32>().is_ok() => Ok(()),
-            _ => Err(format!("{endpoint:?}: write serial endpoints as \"serial:/dev/ttyUSB0:57600\"")),
+            _ => Err(format!(
+                "{endpoint:?}: write serial endpoints as \"serial:/dev/ttyUSB0:57600\""
+            )),
         };
     }
     if !NETWORK.contains(&scheme) {
@@ -293,8 +345,12 @@ fn check_endpoint(endpoint: &str) -> Result<(), String> {
         ));
     }
     match rest.rsplit_once(':') {
-        Some((host, port)) if !host.is_empty() && port.parse::<u16>().is_ok_and(|p| p > 0) => Ok(()),
-        _ => Err(format!("{endpoint:?}: expected {scheme}:HOST:PORT with a port from 1 to 65535")),
+        Some((host, port)) if !host.is_empty() && port.parse::<u16>().is_ok_and(|p| p > 0) => {
+            Ok(())
+        }
+        _ => Err(format!(
+            "{endpoint:?}: expected {scheme}:HOST:PORT with a port from 1 to 65535"
+        )),
     }
 }
 

@@ -64,7 +64,12 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
         writeln!(out, "  - name: {}", quoted(&group.name))?;
         writeln!(out, "    drones:")?;
         for d in &group.drones {
-            write!(out, "      - {{ id: {}, start: {}", quoted(&d.id), voxel(d.start))?;
+            write!(
+                out,
+                "      - {{ id: {}, start: {}",
+                quoted(&d.id),
+                voxel(d.start)
+            )?;
             if let Some(endpoint) = &d.endpoint {
                 write!(out, ", endpoint: {}", quoted(endpoint))?;
             }

@@ -58,7 +58,11 @@ pub fn group_lower_bound(world: &VoxelGrid, group: &Group) -> Option<u32> {
     thresholds.dedup();
     let perfect_within = |t: u32| {
         let adjacency: Vec<Vec<usize>> = (0..starts.len())
-            .map(|d| (0..distance.len()).filter(|&g| distance[g][d] <= t).collect())
+            .map(|d| {
+                (0..distance.len())
+                    .filter(|&g| distance[g][d] <= t)
+                    .collect()
+            })
             .collect();
         maximum_matching(&adjacency, distance.len()) == starts.len()
     };

@@ -1,0 +1,298 @@
+//! Conflict-Based Min-Cost-Flow (Ma & Koenig, AAMAS 2016): a best-first conflict tree
+//! over groups on top of one flow per group.
+
+use super::conflict::{Conflict, first_conflict};
+use super::constraints::Constraints;
+use super::low_level::{GroupRouting, LowLevelWork, min_horizon, route};
+use super::network::{GroupCells, Reservation};
+use super::solve::{PlanError, PlanOptions, PlanStats, Progress};
+use super::space::Space;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::rc::Rc;
+use std::time::Instant;
+
+/// A conflict-tree node: every group's constraints and routing.
+struct Node {
+    constraints: Vec<Rc<Constraints>>,
+    routings: Vec<Rc<GroupRouting>>,
+    makespan: u32,
+    sum_of_costs: u64,
+    conflicts: usize,
+    first: Option<Conflict>,
+}
+
+/// Best-first order: makespan, then sum of costs, then fewer conflicts, then age.
+type Key = Reverse<(u32, u64, usize, u64)>;
+
+pub(crate) struct Search<'a> {
+    pub space: &'a Space,
+    pub groups: &'a [GroupCells],
+    pub lower_bounds: &'a [u32],
+    pub max_horizon: u32,
+    pub options: &'a PlanOptions,
+    pub stats: PlanStats,
+    deadline_at: Instant,
+    started: Instant,
+}
+
+impl<'a> Search<'a> {
+    pub(crate) fn new(
+        space: &'a Space,
+        groups: &'a [GroupCells],
+        lower_bounds: &'a [u32],
+        max_horizon: u32,
+        deadline_at: Instant,
+        options: &'a PlanOptions,
+    ) -> Self {
+        Self {
+            space,
+            groups,
+            lower_bounds,
+            max_horizon,
+            options,
+            stats: PlanStats::default(),
+            deadline_at,
+            started: Instant::now(),
+        }
+    }
+
+    /// The conflict-free routing of least makespan, one path list per group.
+    pub(crate) fn run(
+        &mut self,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<Vec<Rc<GroupRouting>>, PlanError> {
+        let root = self.root()?;
+        if self.groups.len() == 1 || root.first.is_none() {
+            self.stats.ct_nodes_expanded = 1;
+            return Ok(root.routings);
+        }
+        let mut open: BinaryHeap<(Key, usize)> = BinaryHeap::new();
+        let mut nodes: Vec<Option<Node>> = Vec::new();
+        let push =
+            |open: &mut BinaryHeap<(Key, usize)>, nodes: &mut Vec<Option<Node>>, node: Node| {
+                let id = nodes.len();
+                open.push((
+                    Reverse((node.makespan, node.sum_of_costs, node.conflicts, id as u64)),
+                    id,
+                ));
+                nodes.push(Some(node));
+            };
+        push(&mut open, &mut nodes, root);
+        let mut last_report = Instant::now();
+        while let Some((Reverse((makespan, ..)), id)) = open.pop() {
+            let Some(node) = nodes[id].take() else {
+                continue;
+            };
+            self.stats.best_lower_bound_steps = self.stats.best_lower_bound_steps.max(makespan);
+            let Some(conflict) = node.first else {
+                return Ok(node.routings);
+            };
+            self.stats.ct_nodes_expanded += 1;
+            if Instant::now() >= self.deadline_at {
+                return Err(self.deadline_error());
+            }
+            let elapsed = self.started.elapsed();
+            if last_report.elapsed().as_millis() >= 200 {
+                last_report = Instant::now();
+                progress(&Progress {
+                    ct_nodes_expanded: self.stats.ct_nodes_expanded,
+                    open_nodes: open.len(),
+                    best_lower_bound_steps: self.stats.best_lower_bound_steps,
+                    elapsed,
+                });
+            }
+            for (group, constraint) in branches(conflict) {
+                let mut constraints = node.constraints.clone();
+                let mut added = (*constraints[group]).clone();
+                match constraint {
+                    Branch::Vertex(cell, step) => added.vertex.push((cell, step)),
+                    Branch::Edge(from, to, step) => added.edge.push((from, to, step)),
+                }
+                constraints[group] = Rc::new(added);
+                if let Some(child) = self.child(&node, group, constraints)? {
+                    self.stats.ct_nodes_generated += 1;
+                    push(&mut open, &mut nodes, child);
+                }
+            }
+        }
+        Err(PlanError::NoSolution)
+    }
+
+    fn root(&mut self) -> Result<Node, PlanError> {
+        let empty = Rc::new(Constraints::default());
+        let mut horizons = Vec::with_capacity(self.groups.len());
+        for (g, cells) in self.groups.iter().enumerate() {
+            let t = self.min_horizon(cells, &empty, self.lower_bounds[g])?;
+            horizons.push(t);
+        }
+        let makespan = horizons.iter().copied().max().unwrap_or(0);
+        // Route groups in turn, each steering around those already routed.
+        let mut reservation = Reservation::new(self.space.len(), makespan);
+        let mut routings = Vec::with_capacity(self.groups.len());
+        for (g, cells) in self.groups.iter().enumerate() {
+            let paths = self.route(cells, &empty, makespan, &reservation)?;
+            for p in &paths {
+                reservation.add_path(p);
+            }
+            routings.push(Rc::new(GroupRouting {
+                min_horizon: horizons[g],
+                paths,
+            }));
+        }
+        self.stats.ct_nodes_generated = 1;
+        Ok(self.evaluate(vec![empty; self.groups.len()], routings))
+    }
+
+    /// Re-routes `group` under its new constraints; `None` if it cannot be routed at all.
+    fn child(
+        &mut self,
+        parent: &Node,
+        group: usize,
+        constraints: Vec<Rc<Constraints>>,
+    ) -> Result<Option<Node>, PlanError> {
+        let cells = &self.groups[group];
+        let previous = parent.routings[group].min_horizon;
+        let horizon = match self.min_horizon(cells, &constraints[group], previous) {
+            Ok(horizon) => horizon,
+            Err(PlanError::HorizonExceeded(_)) => return Ok(None),
+            Err(other) => return Err(other),
+        };
+        let others_makespan = parent
+            .routings
+            .iter()
+            .enumerate()
+            .filter(|&(g, _)| g != group)
+            .map(|(_, r)| r.min_horizon)
+            .max()
+            .unwrap_or(0);
+        let makespan = horizon.max(others_makespan);
+        let mut reservation = Reservation::new(self.space.len(), makespan);
+        for (_, r) in parent
+            .routings
+            .iter()
+            .enumerate()
+            .filter(|&(g, _)| g != group)
+        {
+            for p in &r.paths {
+                reservation.add_path(p);
+            }
+        }
+        let paths = self.route(cells, &constraints[group], makespan, &reservation)?;
+        let mut routings = parent.routings.clone();
+        routings[group] = Rc::new(GroupRouting {
+            min_horizon: horizon,
+            paths,
+        });
+        Ok(Some(self.evaluate(constraints, routings)))
+    }
+
+    fn evaluate(&self, constraints: Vec<Rc<Constraints>>, routings: Vec<Rc<GroupRouting>>) -> Node {
+        let makespan = routings.iter().map(|r| r.min_horizon).max().unwrap_or(0);
+        let sum_of_costs = routings
+            .iter()
+            .flat_map(|r| r.paths.iter())
+            .map(|p| arrival_step(p))
+            .sum();
+        let views: Vec<&[Vec<u32>]> = routings.iter().map(|r| r.paths.as_slice()).collect();
+        let (first, conflicts) = first_conflict(&views, self.space.len(), makespan);
+        Node {
+            constraints,
+            routings,
+            makespan,
+            sum_of_costs,
+            conflicts,
+            first,
+        }
+    }
+
+    fn deadline_error(&self) -> PlanError {
+        PlanError::Deadline {
+            deadline: self.options.deadline,
+            best_lower_bound_steps: self.stats.best_lower_bound_steps,
+            ct_nodes: self.stats.ct_nodes_expanded,
+        }
+    }
+
+    fn min_horizon(
+        &mut self,
+        cells: &GroupCells,
+        constraints: &Constraints,
+        at_least: u32,
+    ) -> Result<u32, PlanError> {
+        let started = Instant::now();
+        let mut work = LowLevelWork::default();
+        let result = min_horizon(
+            self.space,
+            cells,
+            constraints,
+            at_least,
+            self.max_horizon,
+            self.deadline_at,
+            &mut work,
+        );
+        self.account(started, work);
+        match result {
+            Some(horizon) => Ok(horizon),
+            None if Instant::now() >= self.deadline_at => Err(self.deadline_error()),
+            None => Err(PlanError::HorizonExceeded(self.max_horizon)),
+        }
+    }
+
+    fn route(
+        &mut self,
+        cells: &GroupCells,
+        constraints: &Constraints,
+        horizon: u32,
+        others: &Reservation,
+    ) -> Result<Vec<Vec<u32>>, PlanError> {
+        let started = Instant::now();
+        let mut work = LowLevelWork::default();
+        let result = route(self.space, cells, constraints, horizon, others, &mut work);
+        self.account(started, work);
+        // The horizon was proven feasible just before, so this cannot fail.
+        result.ok_or(PlanError::Internal("no routing at a feasible horizon"))
+    }
+
+    fn account(&mut self, started: Instant, work: LowLevelWork) {
+        self.stats.low_level_calls += 1;
+        self.stats.flow_augmentations += work.augmentations;
+        self.stats.low_level_time += started.elapsed();
+    }
+}
+
+enum Branch {
+    Vertex(u32, u32),
+    Edge(u32, u32, u32),
+}
+
+/// The two ways out of a conflict: forbid it to one group or to the other.
+fn branches(conflict: Conflict) -> [(usize, Branch); 2] {
+    match conflict {
+        Conflict::Vertex {
+            groups: [a, b],
+            cell,
+            step,
+        } => [
+            (a, Branch::Vertex(cell, step)),
+            (b, Branch::Vertex(cell, step)),
+        ],
+        Conflict::Edge {
+            groups: [a, b],
+            from,
+            to,
+            step,
+        } => [
+            (a, Branch::Edge(from, to, step)),
+            (b, Branch::Edge(to, from, step)),
+        ],
+    }
+}
+
+/// The first step from which a path stays at its last cell.
+pub(crate) fn arrival_step(path: &[u32]) -> u64 {
+    let Some(&goal) = path.last() else { return 0 };
+    path.iter()
+        .rposition(|&c| c != goal)
+        .map_or(0, |i| i as u64 + 1)
+}

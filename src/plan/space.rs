@@ -1,0 +1,90 @@
+//! The free voxels as a compact graph, shared by every low-level search.
+
+use crate::world::{Cell, VoxelGrid};
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use std::collections::VecDeque;
+
+/// "No cell" in compact indices.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// Free cells numbered densely, each with its moves (itself first: the wait).
+///
+/// The order of the other moves is shuffled by the seed, so ties between equally good
+/// paths break differently for different seeds but identically for the same one.
+#[derive(Debug, Clone)]
+pub(crate) struct Space {
+    world_of: Vec<Cell>,
+    compact_of: Vec<u32>,
+    offsets: Vec<u32>,
+    moves: Vec<u32>,
+}
+
+impl Space {
+    pub(crate) fn new(world: &VoxelGrid, seed: u64) -> Self {
+        let world_of: Vec<Cell> = (0..world.len())
+            .filter(|&c| world.is_free_cell(c))
+            .collect();
+        let mut compact_of = vec![NONE; world.len()];
+        for (i, &c) in world_of.iter().enumerate() {
+            compact_of[c] = i as u32;
+        }
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut offsets = Vec::with_capacity(world_of.len() + 1);
+        let mut moves = Vec::with_capacity(world_of.len() * 7);
+        for (i, &c) in world_of.iter().enumerate() {
+            offsets.push(moves.len() as u32);
+            moves.push(i as u32);
+            let start = moves.len();
+            moves.extend(world.neighbours(c).map(|n| compact_of[n]));
+            moves[start..].shuffle(&mut rng);
+        }
+        offsets.push(moves.len() as u32);
+        Self {
+            world_of,
+            compact_of,
+            offsets,
+            moves,
+        }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.world_of.len()
+    }
+
+    /// Where a drone at `c` can be one step later: `c` itself, then its free neighbours.
+    pub(crate) fn moves(&self, c: u32) -> &[u32] {
+        let c = c as usize;
+        &self.moves[self.offsets[c] as usize..self.offsets[c + 1] as usize]
+    }
+
+    pub(crate) fn compact(&self, world_cell: Cell) -> u32 {
+        self.compact_of[world_cell]
+    }
+
+    pub(crate) fn world_cell(&self, c: u32) -> Cell {
+        self.world_of[c as usize]
+    }
+
+    /// Move counts from the nearest of `sources` to every cell.
+    pub(crate) fn distances(&self, sources: &[u32]) -> Vec<u32> {
+        let mut dist = vec![NONE; self.len()];
+        let mut queue = VecDeque::with_capacity(self.len());
+        for &s in sources {
+            if dist[s as usize] == NONE {
+                dist[s as usize] = 0;
+                queue.push_back(s);
+            }
+        }
+        while let Some(c) = queue.pop_front() {
+            let next = dist[c as usize] + 1;
+            for &m in &self.moves(c)[1..] {
+                if dist[m as usize] == NONE {
+                    dist[m as usize] = next;
+                    queue.push_back(m);
+                }
+            }
+        }
+        dist
+    }
+}
