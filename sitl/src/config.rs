@@ -1,0 +1,148 @@
+//! What a caller chooses per vehicle: identity, flavour, limits and faults.
+
+use crate::error::SitlError;
+use crate::geo::GeoPoint;
+use std::time::Duration;
+
+/// Which autopilot the mock imitates on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Flavour {
+    /// PX4: OFFBOARD mode, `main << 16 | sub << 24` custom modes, MIS_TAKEOFF_ALT.
+    Px4,
+    /// ArduPilot Copter: GUIDED / LOITER / RTL / LAND custom modes.
+    ArduPilot,
+}
+
+impl std::str::FromStr for Flavour {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "px4" => Ok(Flavour::Px4),
+            "ardupilot" | "apm" | "arducopter" => Ok(Flavour::ArduPilot),
+            other => Err(format!("unknown flavour {other:?} (px4 or ardupilot)")),
+        }
+    }
+}
+
+/// A link outage: starts `after_takeoff` after the vehicle is first airborne
+/// and lasts `duration`. Both directions are cut, as with a real radio dropout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LinkDrop {
+    /// Delay from the first moment the vehicle is airborne to the cut.
+    pub after_takeoff: Duration,
+    /// How long the link stays cut.
+    pub duration: Duration,
+}
+
+/// Faults injected into one vehicle. `Faults::default()` is a healthy vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Faults {
+    /// Share of packets dropped, in percent (0–100), independently in each direction.
+    pub loss_percent: f64,
+    /// Latency added to each direction (so round trips grow by twice this).
+    pub latency: Duration,
+    /// Multiplies the vehicle's speed limit: 0.5 flies at most half as fast (a slow drone).
+    pub speed_factor: f64,
+    /// A link outage some time after takeoff.
+    pub link_drop: Option<LinkDrop>,
+    /// Arming is denied (COMMAND_ACK DENIED plus a STATUSTEXT reason).
+    pub refuse_arm: bool,
+    /// After this much armed time the battery turns critical and the vehicle
+    /// lands (PX4) or returns and lands (ArduPilot).
+    pub low_battery_after: Option<Duration>,
+}
+
+impl Default for Faults {
+    fn default() -> Self {
+        Self {
+            loss_percent: 0.0,
+            latency: Duration::ZERO,
+            speed_factor: 1.0,
+            link_drop: None,
+            refuse_arm: false,
+            low_battery_after: None,
+        }
+    }
+}
+
+impl Faults {
+    /// Checks the knobs are in range; `system_id` only labels the error.
+    pub fn validate(&self, system_id: u8) -> Result<(), SitlError> {
+        let bad = |reason: String| SitlError::InvalidFault { system_id, reason };
+        if !(0.0..=100.0).contains(&self.loss_percent) {
+            return Err(bad(format!(
+                "loss {}% is not in 0..=100",
+                self.loss_percent
+            )));
+        }
+        if !(self.speed_factor.is_finite() && self.speed_factor > 0.0 && self.speed_factor <= 10.0)
+        {
+            return Err(bad(format!(
+                "speed factor {} is not in (0, 10]",
+                self.speed_factor
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Everything that defines one mock vehicle.
+#[derive(Debug, Clone)]
+pub struct VehicleConfig {
+    /// MAVLink system id (1–255); the autopilot is always component 1.
+    pub system_id: u8,
+    /// UDP port the vehicle listens on; 0 picks a free ephemeral port.
+    pub port: u16,
+    /// Autopilot imitated on the wire.
+    pub flavour: Flavour,
+    /// Where the vehicle sits on the ground at start, in the swarm's shared
+    /// local NED frame (metres). LOCAL_POSITION_NED is reported in this frame.
+    pub initial_position_ned_m: [f32; 3],
+    /// Geodetic position of the start point: origin of GLOBAL_POSITION_INT and HOME_POSITION.
+    pub home: GeoPoint,
+    /// Speed limit of the position controller (before the fault speed factor).
+    pub max_speed_mps: f32,
+    /// Acceleration limit of the position controller.
+    pub max_accel_mps2: f32,
+    /// Faults to inject.
+    pub faults: Faults,
+    /// MAVLink 2 signing key: when set, unsigned or wrongly signed input is
+    /// dropped and everything sent is signed.
+    pub signing_key: Option<[u8; 32]>,
+    /// Seed of the deterministic sensor noise and packet-loss draws.
+    pub seed: u64,
+    /// Also stream everything to this UDP port on the bind address (a ground station).
+    pub gcs_stream_port: Option<u16>,
+    /// PX4 only: after offboard loss the vehicle holds, then lands after this long.
+    pub offboard_loss_land_after: Duration,
+}
+
+impl VehicleConfig {
+    /// A healthy vehicle at the local origin with PX4-like default limits
+    /// (5 m/s, 3 m/s²), on an ephemeral port.
+    pub fn new(system_id: u8, flavour: Flavour) -> Self {
+        Self {
+            system_id,
+            port: 0,
+            flavour,
+            initial_position_ned_m: [0.0; 3],
+            home: GeoPoint::default(),
+            max_speed_mps: 5.0,
+            max_accel_mps2: 3.0,
+            faults: Faults::default(),
+            signing_key: None,
+            seed: u64::from(system_id),
+            gcs_stream_port: None,
+            offboard_loss_land_after: Duration::from_secs(5),
+        }
+    }
+
+    /// Places the vehicle at `initial_position_ned_m` in a shared frame whose
+    /// origin is the geodetic point `origin`, and derives `home` from it.
+    pub fn at(mut self, origin: GeoPoint, initial_position_ned_m: [f32; 3]) -> Self {
+        self.initial_position_ned_m = initial_position_ned_m;
+        self.home = origin.offset_ned(initial_position_ned_m.map(f64::from));
+        self
+    }
+}

@@ -1,0 +1,327 @@
+//! Point-mass quadrotor: a position controller with speed and acceleration
+//! limits and a first-order lag, integrated at a fixed step, plus ground contact.
+//!
+//! The model is deliberately simple: a swarm executor needs a vehicle that
+//! lags, saturates and lands like a multirotor, not aerodynamics. The limits
+//! are hard guarantees (tested): |v| never exceeds the speed limit and the
+//! change of velocity per step never exceeds `max_accel · dt`.
+
+/// Standard gravity, m/s², for free fall and attitude estimation.
+pub const GRAVITY_MPS2: f32 = 9.806_65;
+
+/// Time constant of the first-order velocity response, seconds.
+pub const LAG_TAU_S: f32 = 0.25;
+
+/// Proportional gain of the position loop, 1/s.
+const POSITION_GAIN_PER_S: f32 = 1.2;
+
+/// Height above ground (metres) under which the vehicle counts as touching it.
+pub const GROUND_CONTACT_M: f32 = 0.02;
+
+/// Speed under which a vehicle in ground contact counts as landed, m/s.
+pub const LANDED_SPEED_MPS: f32 = 0.25;
+
+/// A 3-vector in metres or metres per second (north, east, down).
+pub type Vec3 = [f32; 3];
+
+/// What the controller is asked to track, per axis; `None` ignores that axis
+/// component (MAVLink `type_mask` semantics).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Setpoint {
+    /// Position target (NED metres) per axis.
+    pub position_ned_m: [Option<f32>; 3],
+    /// Velocity target or feed-forward (NED m/s) per axis.
+    pub velocity_ned_mps: [Option<f32>; 3],
+    /// Yaw target in radians, if any.
+    pub yaw_rad: Option<f32>,
+}
+
+impl Setpoint {
+    /// Hold the given position with zero velocity.
+    pub fn hold(position_ned_m: Vec3) -> Self {
+        Self {
+            position_ned_m: position_ned_m.map(Some),
+            velocity_ned_mps: [Some(0.0); 3],
+            yaw_rad: None,
+        }
+    }
+}
+
+/// Kinematic limits of one vehicle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Largest speed (3-D norm), m/s, already scaled by any speed-factor fault.
+    pub max_speed_mps: f32,
+    /// Largest acceleration (3-D norm), m/s².
+    pub max_accel_mps2: f32,
+}
+
+/// The true physical state of a vehicle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Body {
+    /// Position, NED metres in the swarm's shared frame.
+    pub position_ned_m: Vec3,
+    /// Velocity, NED m/s.
+    pub velocity_ned_mps: Vec3,
+    /// Acceleration applied during the last step, NED m/s² (for attitude).
+    pub accel_ned_mps2: Vec3,
+    /// Heading, radians from north.
+    pub yaw_rad: f32,
+    /// Down coordinate of the ground under the vehicle.
+    pub ground_down_m: f32,
+}
+
+impl Body {
+    /// A vehicle resting on the ground at `position_ned_m`.
+    pub fn on_ground(position_ned_m: Vec3) -> Self {
+        Self {
+            position_ned_m,
+            velocity_ned_mps: [0.0; 3],
+            accel_ned_mps2: [0.0; 3],
+            yaw_rad: 0.0,
+            ground_down_m: position_ned_m[2],
+        }
+    }
+
+    /// Height above the ground, metres (positive up).
+    pub fn height_m(&self) -> f32 {
+        self.ground_down_m - self.position_ned_m[2]
+    }
+
+    /// Whether the vehicle touches the ground.
+    pub fn in_ground_contact(&self) -> bool {
+        self.height_m() <= GROUND_CONTACT_M
+    }
+
+    /// Touching the ground and (almost) still: what landed detection reports.
+    pub fn is_resting(&self) -> bool {
+        self.in_ground_contact() && norm(self.velocity_ned_mps) < LANDED_SPEED_MPS
+    }
+
+    /// Advances one fixed step of `dt_s` seconds. With `thrust` false (motors
+    /// off) the vehicle falls under gravity until it hits the ground.
+    pub fn step(&mut self, dt_s: f32, setpoint: &Setpoint, limits: &Limits, thrust: bool) {
+        let accel = if thrust {
+            let desired = desired_velocity(self, setpoint, limits);
+            // First-order lag towards the desired velocity, then saturate.
+            clamp_norm(
+                std::array::from_fn(|i| (desired[i] - self.velocity_ned_mps[i]) / LAG_TAU_S),
+                limits.max_accel_mps2,
+            )
+        } else {
+            [0.0, 0.0, GRAVITY_MPS2]
+        };
+        let old_velocity = self.velocity_ned_mps;
+        let mut velocity: Vec3 = std::array::from_fn(|i| old_velocity[i] + accel[i] * dt_s);
+        if thrust {
+            // Projection onto the speed ball is non-expansive, so this never
+            // makes the step's velocity change larger than max_accel · dt.
+            velocity = clamp_norm(velocity, limits.max_speed_mps);
+        }
+        let mut position: Vec3 = std::array::from_fn(|i| {
+            self.position_ned_m[i] + 0.5 * (old_velocity[i] + velocity[i]) * dt_s
+        });
+        // Ground contact: the ground pushes back, nothing sinks through it.
+        if position[2] > self.ground_down_m {
+            position[2] = self.ground_down_m;
+            if velocity[2] > 0.0 {
+                velocity[2] = 0.0;
+            }
+            if !thrust {
+                velocity = [0.0; 3];
+            }
+        }
+        self.accel_ned_mps2 = std::array::from_fn(|i| (velocity[i] - old_velocity[i]) / dt_s);
+        self.velocity_ned_mps = velocity;
+        self.position_ned_m = position;
+        if let Some(yaw) = setpoint.yaw_rad.filter(|y| y.is_finite()) {
+            let max_step = std::f32::consts::FRAC_PI_2 * dt_s; // 90°/s yaw rate limit
+            let error = wrap_pi(yaw - self.yaw_rad);
+            self.yaw_rad = wrap_pi(self.yaw_rad + error.clamp(-max_step, max_step));
+        }
+    }
+}
+
+/// Velocity the position loop asks for: feed-forward plus a gain on the
+/// position error, shaped so the vehicle can still stop within its
+/// acceleration limit, capped at the speed limit.
+fn desired_velocity(body: &Body, setpoint: &Setpoint, limits: &Limits) -> Vec3 {
+    let mut error = [0.0f32; 3];
+    let mut feed_forward = [0.0f32; 3];
+    for i in 0..3 {
+        if let Some(target) = setpoint.position_ned_m[i].filter(|v| v.is_finite()) {
+            error[i] = target - body.position_ned_m[i];
+        }
+        if let Some(v) = setpoint.velocity_ned_mps[i].filter(|v| v.is_finite()) {
+            feed_forward[i] = v;
+        }
+    }
+    let distance_m = norm(error);
+    let mut correction = [0.0f32; 3];
+    if distance_m > 1e-6 {
+        // sqrt(2·(a/2)·d): the speed from which it can brake in d metres using
+        // half its acceleration, leaving margin for the lag.
+        let braking_mps = (limits.max_accel_mps2 * distance_m).sqrt();
+        let speed_mps = (POSITION_GAIN_PER_S * distance_m).min(braking_mps);
+        correction = error.map(|e| e / distance_m * speed_mps);
+    }
+    clamp_norm(
+        std::array::from_fn(|i| feed_forward[i] + correction[i]),
+        limits.max_speed_mps,
+    )
+}
+
+/// Euclidean norm of a 3-vector.
+pub fn norm(v: Vec3) -> f32 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+/// `v` scaled down, if needed, so its norm is at most `limit`.
+fn clamp_norm(v: Vec3, limit: f32) -> Vec3 {
+    let n = norm(v);
+    if n > limit && n > 0.0 {
+        v.map(|c| c * (limit / n))
+    } else {
+        v
+    }
+}
+
+/// Angle wrapped to (-π, π].
+fn wrap_pi(angle_rad: f32) -> f32 {
+    let two_pi = std::f32::consts::TAU;
+    let mut a = angle_rad % two_pi;
+    if a > std::f32::consts::PI {
+        a -= two_pi;
+    } else if a <= -std::f32::consts::PI {
+        a += two_pi;
+    }
+    a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DT_S: f32 = 0.01;
+
+    fn limits() -> Limits {
+        Limits {
+            max_speed_mps: 2.0,
+            max_accel_mps2: 3.0,
+        }
+    }
+
+    fn airborne() -> Body {
+        let mut b = Body::on_ground([0.0, 0.0, 0.0]);
+        b.position_ned_m[2] = -5.0;
+        b
+    }
+
+    #[test]
+    fn speed_and_acceleration_limits_are_never_exceeded() {
+        let mut body = airborne();
+        let targets = [
+            [30.0, 0.0, -5.0],
+            [30.0, 40.0, -20.0],
+            [-10.0, -10.0, -2.0],
+            [0.0, 0.0, -5.0],
+        ];
+        for target in targets {
+            let sp = Setpoint::hold(target);
+            for _ in 0..6000 {
+                let before = body.velocity_ned_mps;
+                body.step(DT_S, &sp, &limits(), true);
+                let dv: Vec3 = std::array::from_fn(|i| body.velocity_ned_mps[i] - before[i]);
+                assert!(
+                    norm(body.velocity_ned_mps) <= 2.0 + 1e-4,
+                    "speed {:?}",
+                    body.velocity_ned_mps
+                );
+                assert!(norm(dv) <= 3.0 * DT_S + 1e-4, "accel {}", norm(dv) / DT_S);
+            }
+            let err: Vec3 = std::array::from_fn(|i| body.position_ned_m[i] - target[i]);
+            assert!(
+                norm(err) < 0.05,
+                "did not converge to {target:?}: {:?}",
+                body.position_ned_m
+            );
+        }
+    }
+
+    #[test]
+    fn velocity_feed_forward_lags_first_order() {
+        let mut body = airborne();
+        let sp = Setpoint {
+            position_ned_m: [None; 3],
+            velocity_ned_mps: [Some(1.0), Some(0.0), Some(0.0)],
+            yaw_rad: None,
+        };
+        // After one time constant a first-order lag reaches 1 - 1/e ≈ 63 %.
+        let steps = (LAG_TAU_S / DT_S).round() as usize;
+        for _ in 0..steps {
+            body.step(
+                DT_S,
+                &sp,
+                &Limits {
+                    max_speed_mps: 5.0,
+                    max_accel_mps2: 50.0,
+                },
+                true,
+            );
+        }
+        let v = body.velocity_ned_mps[0];
+        assert!((0.58..0.68).contains(&v), "v after tau = {v}");
+    }
+
+    #[test]
+    fn type_mask_ignored_axes_are_not_tracked() {
+        let mut body = airborne();
+        let sp = Setpoint {
+            position_ned_m: [Some(3.0), None, None],
+            velocity_ned_mps: [None; 3],
+            yaw_rad: None,
+        };
+        for _ in 0..1000 {
+            body.step(DT_S, &sp, &limits(), true);
+        }
+        assert!((body.position_ned_m[0] - 3.0).abs() < 0.05);
+        assert!(body.position_ned_m[1].abs() < 1e-6);
+        assert!((body.position_ned_m[2] + 5.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn motors_off_falls_and_rests_on_ground() {
+        let mut body = airborne();
+        assert!(!body.is_resting());
+        for _ in 0..300 {
+            body.step(DT_S, &Setpoint::default(), &limits(), false);
+        }
+        assert_eq!(body.position_ned_m[2], 0.0);
+        assert!(body.is_resting());
+    }
+
+    #[test]
+    fn descending_setpoint_below_ground_lands_without_sinking() {
+        let mut body = airborne();
+        let sp = Setpoint::hold([0.0, 0.0, 3.0]);
+        let mut touched = false;
+        for _ in 0..2000 {
+            body.step(DT_S, &sp, &limits(), true);
+            assert!(body.position_ned_m[2] <= 0.0);
+            touched |= body.is_resting();
+        }
+        assert!(touched);
+    }
+
+    #[test]
+    fn yaw_turns_at_limited_rate_and_wraps() {
+        let mut body = airborne();
+        let sp = Setpoint {
+            yaw_rad: Some(3.0),
+            ..Setpoint::hold([0.0, 0.0, -5.0])
+        };
+        body.step(DT_S, &sp, &limits(), true);
+        assert!((body.yaw_rad - std::f32::consts::FRAC_PI_2 * DT_S).abs() < 1e-6);
+        assert!((wrap_pi(3.5) - (3.5 - std::f32::consts::TAU)).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,434 @@
+//! One mock autopilot: armed state, flight mode, failsafes and the fixed-step
+//! update that turns the mode into a setpoint for the dynamics.
+//!
+//! The vehicle is pure state: it never touches a socket. Incoming messages go
+//! through [`Vehicle::handle`] and everything it wants to say lands in
+//! [`Vehicle::outbox`], so the whole state machine is unit-testable without I/O.
+
+use crate::config::{Flavour, VehicleConfig};
+use crate::dynamics::{Body, Limits, Setpoint, norm};
+use crate::geo::GeoPoint;
+use crate::mode::FlightMode;
+use crate::params::Params;
+use crate::telemetry::Streams;
+use crate::{ardupilot, px4};
+use mavlink::dialects::common::{MavMessage, MavSeverity, STATUSTEXT_DATA};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use std::collections::VecDeque;
+
+/// Setpoints must have arrived within this window, at least
+/// [`OFFBOARD_MIN_SETPOINTS`] of them, for OFFBOARD to be accepted (> 2 Hz).
+const OFFBOARD_STREAM_WINDOW_S: f64 = 1.0;
+/// Setpoints needed inside the window: three in one second is "more than 2 Hz".
+const OFFBOARD_MIN_SETPOINTS: usize = 3;
+/// PX4's COM_OF_LOSS_T default: no setpoint for this long is offboard loss.
+pub const OFFBOARD_LOSS_TIMEOUT_S: f64 = 1.0;
+/// Landed this long in LAND or RTL before the vehicle disarms itself (PX4 COM_DISARM_LAND).
+const AUTO_DISARM_AFTER_LANDING_S: f64 = 2.0;
+/// Descent speed in LAND and at the end of RTL, m/s (PX4 MPC_LAND_SPEED).
+const LAND_SPEED_MPS: f32 = 0.7;
+/// Climb speed limit during takeoff, m/s.
+const TAKEOFF_SPEED_MPS: f32 = 1.5;
+/// Height error at which a takeoff counts as complete, metres.
+const TAKEOFF_DONE_M: f32 = 0.15;
+/// Horizontal distance to home at which RTL starts descending, metres.
+const RTL_OVER_HOME_M: f32 = 0.3;
+/// Height above which the vehicle is airborne, metres.
+const AIRBORNE_HEIGHT_M: f32 = 0.1;
+/// Battery drain while armed, percent per second (a ~30 minute pack).
+const BATTERY_DRAIN_PCT_PER_S: f32 = 0.05;
+/// Charge reported once the low-battery fault fires, percent.
+const CRITICAL_BATTERY_PCT: f32 = 8.0;
+
+/// A position/velocity target received over MAVLink, with its arrival time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExternalTarget {
+    /// The decoded setpoint, already in the shared local NED frame.
+    pub setpoint: Setpoint,
+    /// Simulation time it arrived, seconds.
+    pub received_s: f64,
+}
+
+/// One mock autopilot's complete state.
+pub struct Vehicle {
+    /// MAVLink system id.
+    pub(crate) system_id: u8,
+    /// Autopilot imitated.
+    pub(crate) flavour: Flavour,
+    /// Start position on the ground, shared NED frame.
+    pub(crate) initial_position_ned_m: [f32; 3],
+    /// Geodetic position of the start point.
+    pub(crate) home: GeoPoint,
+    /// Kinematic limits including the speed-factor fault.
+    pub(crate) limits: Limits,
+    /// The configuration it was built from (faults, timeouts).
+    pub(crate) config: VehicleConfig,
+    /// True physical state.
+    pub(crate) body: Body,
+    /// Motors armed.
+    pub(crate) armed: bool,
+    /// Current flight mode.
+    pub(crate) mode: FlightMode,
+    /// Simulation time since boot, seconds.
+    pub(crate) time_s: f64,
+    /// Total time spent armed, seconds (drives the low-battery fault).
+    pub(crate) armed_time_s: f64,
+    /// When the vehicle first left the ground (drives the link-drop fault).
+    pub(crate) first_airborne_s: Option<f64>,
+    /// Since when it has been resting on the ground while armed.
+    resting_since_s: Option<f64>,
+    /// Position held in Hold/Manual/Guided-without-target.
+    hold: Setpoint,
+    /// Takeoff in progress: target height above ground, metres.
+    pub(crate) takeoff_height_m: Option<f32>,
+    /// RTL has reached home and is descending.
+    rtl_descending: bool,
+    /// Last external setpoint (SET_POSITION_TARGET_*).
+    pub(crate) external: Option<ExternalTarget>,
+    /// Arrival times of recent setpoints, for the > 2 Hz offboard rule.
+    setpoint_times_s: VecDeque<f64>,
+    /// PX4 offboard-loss failsafe active since this time (holding, then landing).
+    offboard_lost_since_s: Option<f64>,
+    /// ArduPilot: the velocity target timed out and was replaced by a stop.
+    velocity_timed_out: bool,
+    /// Battery state of charge, percent.
+    pub(crate) battery_pct: f32,
+    /// The low-battery failsafe fired.
+    pub(crate) battery_critical: bool,
+    /// Parameter table.
+    pub(crate) params: Params,
+    /// Telemetry stream schedule.
+    pub(crate) streams: Streams,
+    /// Messages waiting to be sent.
+    pub(crate) outbox: Vec<MavMessage>,
+    /// Sensor-noise generator (deterministic from the seed).
+    pub(crate) noise: ChaCha8Rng,
+}
+
+impl Vehicle {
+    /// A disarmed vehicle resting at its start position.
+    pub fn new(config: VehicleConfig, telemetry_rate_hz: f64) -> Self {
+        let speed_factor = config.faults.speed_factor as f32;
+        let mode = match config.flavour {
+            Flavour::Px4 => FlightMode::Hold,
+            Flavour::ArduPilot => FlightMode::Manual,
+        };
+        let body = Body::on_ground(config.initial_position_ned_m);
+        Self {
+            system_id: config.system_id,
+            flavour: config.flavour,
+            initial_position_ned_m: config.initial_position_ned_m,
+            home: config.home,
+            limits: Limits {
+                max_speed_mps: config.max_speed_mps * speed_factor,
+                max_accel_mps2: config.max_accel_mps2,
+            },
+            body,
+            armed: false,
+            mode,
+            time_s: 0.0,
+            armed_time_s: 0.0,
+            first_airborne_s: None,
+            resting_since_s: None,
+            hold: Setpoint::hold(config.initial_position_ned_m),
+            takeoff_height_m: None,
+            rtl_descending: false,
+            external: None,
+            setpoint_times_s: VecDeque::new(),
+            offboard_lost_since_s: None,
+            velocity_timed_out: false,
+            battery_pct: 100.0,
+            battery_critical: false,
+            params: Params::for_vehicle(&config),
+            streams: Streams::new(config.seed, telemetry_rate_hz),
+            outbox: Vec::new(),
+            noise: ChaCha8Rng::seed_from_u64(config.seed),
+            config,
+        }
+    }
+
+    /// Whether the vehicle is resting on the ground (landed detection).
+    pub fn landed(&self) -> bool {
+        self.body.is_resting()
+    }
+
+    /// Whether the vehicle is clearly off the ground.
+    pub fn airborne(&self) -> bool {
+        self.body.height_m() > AIRBORNE_HEIGHT_M
+    }
+
+    /// Whether an injected link drop is cutting the link right now.
+    pub fn link_down(&self) -> bool {
+        match (self.config.faults.link_drop, self.first_airborne_s) {
+            (Some(drop), Some(airborne_s)) => {
+                let start_s = airborne_s + drop.after_takeoff.as_secs_f64();
+                (start_s..start_s + drop.duration.as_secs_f64()).contains(&self.time_s)
+            }
+            _ => false,
+        }
+    }
+
+    /// HEARTBEAT custom_mode of the current mode.
+    pub fn custom_mode(&self) -> u32 {
+        match self.flavour {
+            Flavour::Px4 => px4::custom_mode(self.mode),
+            Flavour::ArduPilot => ardupilot::custom_mode(self.mode),
+        }
+    }
+
+    /// Advances simulation time by one fixed step.
+    pub fn step(&mut self, dt_s: f64) {
+        self.time_s += dt_s;
+        if self.armed {
+            self.armed_time_s += dt_s;
+            self.battery_pct = (self.battery_pct - BATTERY_DRAIN_PCT_PER_S * dt_s as f32).max(0.0);
+        }
+        self.check_battery();
+        self.update_mode();
+        let setpoint = self.current_setpoint();
+        let limits = self.mode_limits();
+        self.body.step(dt_s as f32, &setpoint, &limits, self.armed);
+        if self.first_airborne_s.is_none() && self.airborne() {
+            self.first_airborne_s = Some(self.time_s);
+        }
+        self.check_auto_disarm();
+    }
+
+    /// Switches mode, capturing the current position as the hold point.
+    pub(crate) fn set_mode(&mut self, mode: FlightMode) {
+        if mode != self.mode {
+            tracing::debug!(system_id = self.system_id, ?mode, "mode change");
+        }
+        self.mode = mode;
+        self.hold = Setpoint::hold(self.hold_position());
+        self.rtl_descending = false;
+        self.offboard_lost_since_s = None;
+        if !matches!(mode, FlightMode::Takeoff | FlightMode::Guided) {
+            self.takeoff_height_m = None;
+        }
+        if mode == FlightMode::Takeoff && self.takeoff_height_m.is_none() {
+            self.takeoff_height_m = Some(self.params.takeoff_alt_m());
+        }
+    }
+
+    /// Where to hold: here, or on the ground if resting there.
+    fn hold_position(&self) -> [f32; 3] {
+        let mut p = self.body.position_ned_m;
+        if self.body.in_ground_contact() {
+            p[2] = self.body.ground_down_m;
+        }
+        p
+    }
+
+    /// Arms or disarms, resetting per-flight state.
+    pub(crate) fn set_armed(&mut self, armed: bool) {
+        self.armed = armed;
+        self.resting_since_s = None;
+        self.hold = Setpoint::hold(self.hold_position());
+        if !armed {
+            self.takeoff_height_m = None;
+        }
+    }
+
+    /// Records a setpoint from the wire (whether or not the mode uses it).
+    pub(crate) fn record_setpoint(&mut self, setpoint: Setpoint) {
+        self.setpoint_times_s.push_back(self.time_s);
+        while self.setpoint_times_s.len() > 16 {
+            self.setpoint_times_s.pop_front();
+        }
+        self.external = Some(ExternalTarget {
+            setpoint,
+            received_s: self.time_s,
+        });
+        self.velocity_timed_out = false;
+    }
+
+    /// PX4's condition to enter OFFBOARD: a live stream of more than 2 Hz.
+    pub(crate) fn setpoint_stream_ok(&self) -> bool {
+        let recent = self
+            .setpoint_times_s
+            .iter()
+            .filter(|t| self.time_s - **t <= OFFBOARD_STREAM_WINDOW_S)
+            .count();
+        recent >= OFFBOARD_MIN_SETPOINTS
+            && self
+                .external
+                .is_some_and(|e| self.time_s - e.received_s < OFFBOARD_LOSS_TIMEOUT_S / 2.0)
+    }
+
+    /// Queues a STATUSTEXT, as autopilots explain refusals and failsafes.
+    pub(crate) fn status_text(&mut self, severity: MavSeverity, text: &str) {
+        tracing::info!(system_id = self.system_id, "{text}");
+        self.outbox.push(MavMessage::STATUSTEXT(STATUSTEXT_DATA {
+            severity,
+            text: text.into(),
+            id: 0,
+            chunk_seq: 0,
+        }));
+    }
+
+    /// Low-battery fault: turns the battery critical and starts the flavour's failsafe.
+    fn check_battery(&mut self) {
+        let Some(after) = self.config.faults.low_battery_after else {
+            return;
+        };
+        if self.battery_critical || !self.armed || self.armed_time_s < after.as_secs_f64() {
+            return;
+        }
+        self.battery_critical = true;
+        self.battery_pct = self.battery_pct.min(CRITICAL_BATTERY_PCT);
+        if self.landed() {
+            self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, "Battery critical");
+            return;
+        }
+        match self.flavour {
+            Flavour::Px4 => {
+                self.status_text(
+                    MavSeverity::MAV_SEVERITY_CRITICAL,
+                    "Critical battery level! Landing",
+                );
+                self.set_mode(FlightMode::Land);
+            }
+            Flavour::ArduPilot => {
+                self.status_text(
+                    MavSeverity::MAV_SEVERITY_CRITICAL,
+                    "Battery 1 is critical! Failsafe: RTL",
+                );
+                self.set_mode(FlightMode::ReturnToLaunch);
+            }
+        }
+    }
+
+    /// Mode transitions driven by time: takeoff completion, offboard loss,
+    /// velocity timeouts, RTL phases.
+    fn update_mode(&mut self) {
+        match self.mode {
+            FlightMode::Takeoff => {
+                if self.takeoff_complete() {
+                    self.takeoff_height_m = None;
+                    self.set_mode(FlightMode::Hold);
+                }
+            }
+            FlightMode::Guided => {
+                if self.takeoff_complete() {
+                    self.takeoff_height_m = None;
+                    self.hold = Setpoint::hold(self.body.position_ned_m);
+                }
+                let stale_velocity = self.external.is_some_and(|e| {
+                    e.setpoint
+                        .velocity_ned_mps
+                        .iter()
+                        .any(|v| v.is_some_and(|v| v != 0.0))
+                        && self.time_s - e.received_s > ardupilot::VELOCITY_TIMEOUT_S
+                });
+                if stale_velocity && !self.velocity_timed_out {
+                    self.velocity_timed_out = true;
+                    self.external = None;
+                    self.hold = Setpoint::hold(self.body.position_ned_m);
+                }
+            }
+            FlightMode::Offboard => {
+                let lost = self
+                    .external
+                    .is_none_or(|e| self.time_s - e.received_s > OFFBOARD_LOSS_TIMEOUT_S);
+                if lost && self.armed {
+                    self.status_text(
+                        MavSeverity::MAV_SEVERITY_WARNING,
+                        "Failsafe: offboard lost, holding",
+                    );
+                    self.set_mode(FlightMode::Hold);
+                    self.offboard_lost_since_s = Some(self.time_s);
+                }
+            }
+            FlightMode::Hold => {
+                if let Some(since) = self.offboard_lost_since_s
+                    && self.time_s - since > self.config.offboard_loss_land_after.as_secs_f64()
+                {
+                    self.status_text(
+                        MavSeverity::MAV_SEVERITY_WARNING,
+                        "Failsafe: offboard lost, landing",
+                    );
+                    self.set_mode(FlightMode::Land);
+                }
+            }
+            FlightMode::ReturnToLaunch => {
+                let home = self.initial_position_ned_m;
+                let p = self.body.position_ned_m;
+                if !self.rtl_descending
+                    && norm([home[0] - p[0], home[1] - p[1], 0.0]) < RTL_OVER_HOME_M
+                {
+                    self.rtl_descending = true;
+                }
+            }
+            FlightMode::Manual | FlightMode::Land => {}
+        }
+    }
+
+    fn takeoff_complete(&self) -> bool {
+        self.takeoff_height_m
+            .is_some_and(|h| self.armed && (self.body.height_m() - h).abs() < TAKEOFF_DONE_M)
+    }
+
+    /// What the position controller tracks in the current mode.
+    fn current_setpoint(&self) -> Setpoint {
+        if let Some(height_m) = self.takeoff_height_m {
+            let mut sp = self.hold;
+            sp.position_ned_m[2] = Some(self.body.ground_down_m - height_m);
+            return sp;
+        }
+        match self.mode {
+            FlightMode::Offboard => self.external.map_or(self.hold, |e| e.setpoint),
+            FlightMode::Guided => match self.external {
+                Some(e) if self.airborne() || self.takeoff_height_m.is_some() => e.setpoint,
+                _ => self.hold,
+            },
+            FlightMode::Land => self.descend_at(self.hold.position_ned_m),
+            FlightMode::ReturnToLaunch => {
+                let home = self.initial_position_ned_m;
+                if self.rtl_descending {
+                    self.descend_at([Some(home[0]), Some(home[1]), None])
+                } else {
+                    Setpoint {
+                        position_ned_m: [Some(home[0]), Some(home[1]), self.hold.position_ned_m[2]],
+                        velocity_ned_mps: [None; 3],
+                        yaw_rad: None,
+                    }
+                }
+            }
+            FlightMode::Manual | FlightMode::Hold | FlightMode::Takeoff => self.hold,
+        }
+    }
+
+    /// Hold north/east, sink at the landing speed.
+    fn descend_at(&self, position: [Option<f32>; 3]) -> Setpoint {
+        Setpoint {
+            position_ned_m: [position[0], position[1], None],
+            velocity_ned_mps: [None, None, Some(LAND_SPEED_MPS)],
+            yaw_rad: None,
+        }
+    }
+
+    /// Limits for the current phase (slower climbs during takeoff).
+    fn mode_limits(&self) -> Limits {
+        let mut limits = self.limits;
+        if self.takeoff_height_m.is_some() {
+            limits.max_speed_mps = limits.max_speed_mps.min(TAKEOFF_SPEED_MPS);
+        }
+        limits
+    }
+
+    /// Disarms a vehicle that has landed in LAND or RTL, as both autopilots do.
+    fn check_auto_disarm(&mut self) {
+        let landing = matches!(self.mode, FlightMode::Land | FlightMode::ReturnToLaunch);
+        if !(self.armed && landing && self.landed()) {
+            self.resting_since_s = None;
+            return;
+        }
+        let since = *self.resting_since_s.get_or_insert(self.time_s);
+        if self.time_s - since >= AUTO_DISARM_AFTER_LANDING_S {
+            self.status_text(MavSeverity::MAV_SEVERITY_INFO, "Landing detected, disarmed");
+            self.set_armed(false);
+        }
+    }
+}

@@ -1,0 +1,427 @@
+//! Mode-logic tests: a `Vehicle` driven message by message, without sockets.
+
+use crate::config::{Faults, Flavour, VehicleConfig};
+use crate::mode::FlightMode;
+use crate::vehicle::Vehicle;
+use mavlink::MavHeader;
+use mavlink::dialects::common::*;
+use std::time::Duration;
+
+const DT_S: f64 = 0.01;
+const GCS: MavHeader = MavHeader {
+    system_id: 255,
+    component_id: 190,
+    sequence: 0,
+};
+
+fn vehicle(flavour: Flavour, faults: Faults) -> Vehicle {
+    let mut config = VehicleConfig::new(1, flavour);
+    config.faults = faults;
+    Vehicle::new(config, 20.0)
+}
+
+fn run(v: &mut Vehicle, seconds: f64) {
+    for _ in 0..(seconds / DT_S).round() as usize {
+        v.step(DT_S);
+    }
+}
+
+/// Sends a COMMAND_LONG and returns the result of its ACK.
+fn command(v: &mut Vehicle, command: MavCmd, params: [f32; 7]) -> MavResult {
+    v.outbox.clear();
+    let [param1, param2, param3, param4, param5, param6, param7] = params;
+    let message = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1,
+        param2,
+        param3,
+        param4,
+        param5,
+        param6,
+        param7,
+        command,
+        target_system: 1,
+        target_component: 1,
+        confirmation: 0,
+    });
+    v.handle(GCS, &message);
+    v.outbox
+        .iter()
+        .find_map(|m| match m {
+            MavMessage::COMMAND_ACK(ack) if ack.command == command => Some(ack.result),
+            _ => None,
+        })
+        .expect("every addressed command is acknowledged")
+}
+
+fn arm(v: &mut Vehicle) -> MavResult {
+    command(
+        v,
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    )
+}
+
+fn set_mode(v: &mut Vehicle, main: f32, sub: f32) -> MavResult {
+    command(
+        v,
+        MavCmd::MAV_CMD_DO_SET_MODE,
+        [1.0, main, sub, 0.0, 0.0, 0.0, 0.0],
+    )
+}
+
+fn position_target(v: &mut Vehicle, ned_m: [f32; 3]) {
+    let message = MavMessage::SET_POSITION_TARGET_LOCAL_NED(SET_POSITION_TARGET_LOCAL_NED_DATA {
+        time_boot_ms: 0,
+        x: ned_m[0],
+        y: ned_m[1],
+        z: ned_m[2],
+        vx: 0.0,
+        vy: 0.0,
+        vz: 0.0,
+        afx: 0.0,
+        afy: 0.0,
+        afz: 0.0,
+        yaw: 0.0,
+        yaw_rate: 0.0,
+        type_mask: PositionTargetTypemask::from_bits_truncate(3576), // position only
+        target_system: 1,
+        target_component: 1,
+        coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+    });
+    v.handle(GCS, &message);
+}
+
+fn velocity_target(v: &mut Vehicle, ned_mps: [f32; 3]) {
+    let message = MavMessage::SET_POSITION_TARGET_LOCAL_NED(SET_POSITION_TARGET_LOCAL_NED_DATA {
+        time_boot_ms: 0,
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        vx: ned_mps[0],
+        vy: ned_mps[1],
+        vz: ned_mps[2],
+        afx: 0.0,
+        afy: 0.0,
+        afz: 0.0,
+        yaw: 0.0,
+        yaw_rate: 0.0,
+        type_mask: PositionTargetTypemask::from_bits_truncate(3527), // velocity only
+        target_system: 1,
+        target_component: 1,
+        coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+    });
+    v.handle(GCS, &message);
+}
+
+const NAN7: [f32; 7] = [f32::NAN; 7];
+
+#[test]
+fn px4_arm_takeoff_hold_land_and_auto_disarm() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    assert_eq!(v.mode, FlightMode::Hold);
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7),
+        MavResult::MAV_RESULT_DENIED
+    );
+    assert_eq!(arm(&mut v), MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7),
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    assert_eq!(v.mode, FlightMode::Takeoff);
+    assert_eq!(v.custom_mode(), 0x0204_0000);
+    run(&mut v, 1.0);
+    assert_eq!(v.landed_state(), MavLandedState::MAV_LANDED_STATE_TAKEOFF);
+    run(&mut v, 9.0);
+    assert_eq!(v.mode, FlightMode::Hold, "takeoff ends in Hold");
+    assert!(
+        (v.body.height_m() - 2.5).abs() < 0.2,
+        "height {}",
+        v.body.height_m()
+    );
+    assert_eq!(v.landed_state(), MavLandedState::MAV_LANDED_STATE_IN_AIR);
+    // Disarming in the air is refused unless forced.
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, [0.0; 7]),
+        MavResult::MAV_RESULT_DENIED
+    );
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_NAV_LAND, NAN7),
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    run(&mut v, 2.0);
+    assert_eq!(v.landed_state(), MavLandedState::MAV_LANDED_STATE_LANDING);
+    run(&mut v, 8.0);
+    assert!(v.landed());
+    assert!(!v.armed, "PX4 disarms after landing");
+}
+
+#[test]
+fn px4_takeoff_param7_is_amsl_and_mis_takeoff_alt_is_used() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    arm(&mut v);
+    let home_amsl = v.home.alt_amsl_m as f32;
+    let low = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0];
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, low),
+        MavResult::MAV_RESULT_DENIED
+    );
+    let ok = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, home_amsl + 4.0];
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, ok),
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    run(&mut v, 8.0);
+    assert!((v.body.height_m() - 4.0).abs() < 0.2);
+}
+
+#[test]
+fn px4_offboard_needs_a_stream_and_fails_safe_when_it_stops() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    arm(&mut v);
+    assert_eq!(
+        set_mode(&mut v, 6.0, 0.0),
+        MavResult::MAV_RESULT_TEMPORARILY_REJECTED
+    );
+    // Two setpoints in one second are not "more than 2 Hz".
+    position_target(&mut v, [0.0, 0.0, -3.0]);
+    run(&mut v, 0.4);
+    position_target(&mut v, [0.0, 0.0, -3.0]);
+    assert_eq!(
+        set_mode(&mut v, 6.0, 0.0),
+        MavResult::MAV_RESULT_TEMPORARILY_REJECTED
+    );
+    for _ in 0..10 {
+        position_target(&mut v, [0.0, 0.0, -3.0]);
+        run(&mut v, 0.1);
+    }
+    assert_eq!(set_mode(&mut v, 6.0, 0.0), MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(v.custom_mode(), 0x0006_0000);
+    for _ in 0..60 {
+        position_target(&mut v, [2.0, 1.0, -3.0]);
+        run(&mut v, 0.1);
+    }
+    assert!(
+        (v.body.position_ned_m[0] - 2.0).abs() < 0.1,
+        "{:?}",
+        v.body.position_ned_m
+    );
+    // Stream stops: hold after 1 s, land after the configured 5 s more.
+    run(&mut v, 0.9);
+    assert_eq!(v.mode, FlightMode::Offboard);
+    run(&mut v, 0.2);
+    assert_eq!(v.mode, FlightMode::Hold);
+    run(&mut v, 4.8);
+    assert_eq!(v.mode, FlightMode::Hold);
+    run(&mut v, 0.3);
+    assert_eq!(v.mode, FlightMode::Land);
+}
+
+#[test]
+fn refused_arming_is_denied_with_a_reason() {
+    let mut v = vehicle(
+        Flavour::Px4,
+        Faults {
+            refuse_arm: true,
+            ..Faults::default()
+        },
+    );
+    assert_eq!(arm(&mut v), MavResult::MAV_RESULT_DENIED);
+    assert!(!v.armed);
+    assert!(v.outbox.iter().any(|m| matches!(m, MavMessage::STATUSTEXT(t) if t.text.to_str().is_ok_and(|s| s.contains("Arming denied")))));
+}
+
+#[test]
+fn commands_for_other_systems_or_components_are_ignored() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    for (system, component) in [(2, 1), (1, 100)] {
+        let message = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1: 1.0,
+            command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            target_system: system,
+            target_component: component,
+            ..COMMAND_LONG_DATA::default()
+        });
+        v.handle(GCS, &message);
+    }
+    assert!(v.outbox.is_empty());
+    assert!(!v.armed);
+}
+
+#[test]
+fn ardupilot_takeoff_only_in_guided_and_armed_then_targets_and_velocity_timeout() {
+    let mut v = vehicle(Flavour::ArduPilot, Faults::default());
+    assert_eq!(v.custom_mode(), 0, "boots in STABILIZE");
+    let takeoff = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0];
+    assert_eq!(arm(&mut v), MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, takeoff),
+        MavResult::MAV_RESULT_FAILED
+    );
+    assert_eq!(set_mode(&mut v, 4.0, 0.0), MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(v.custom_mode(), 4);
+    assert_eq!(
+        command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, takeoff),
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    run(&mut v, 6.0);
+    assert!(
+        (v.body.height_m() - 3.0).abs() < 0.2,
+        "height {}",
+        v.body.height_m()
+    );
+    position_target(&mut v, [3.0, 0.0, -3.0]);
+    run(&mut v, 6.0);
+    assert!((v.body.position_ned_m[0] - 3.0).abs() < 0.1);
+    // A velocity target is followed, then replaced by a stop after 3 s.
+    velocity_target(&mut v, [1.0, 0.0, 0.0]);
+    run(&mut v, 2.5);
+    assert!(v.body.velocity_ned_mps[0] > 0.9);
+    run(&mut v, 1.5);
+    assert!(v.body.velocity_ned_mps[0] < 0.9);
+    run(&mut v, 3.0);
+    assert!(
+        v.body.velocity_ned_mps[0].abs() < 0.05,
+        "stopped after timeout"
+    );
+    // LOITER, then RTL comes home and lands.
+    assert_eq!(set_mode(&mut v, 5.0, 0.0), MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(set_mode(&mut v, 6.0, 0.0), MavResult::MAV_RESULT_ACCEPTED);
+    run(&mut v, 25.0);
+    assert!(v.landed() && !v.armed);
+    let p = v.body.position_ned_m;
+    assert!(
+        p[0].abs() < 0.35 && p[1].abs() < 0.35,
+        "landed at home, {p:?}"
+    );
+    // Copter cannot arm in RTL.
+    assert_eq!(arm(&mut v), MavResult::MAV_RESULT_DENIED);
+}
+
+#[test]
+fn low_battery_lands_px4_and_returns_ardupilot() {
+    let faults = Faults {
+        low_battery_after: Some(Duration::from_secs(8)),
+        ..Faults::default()
+    };
+    let mut px4 = vehicle(Flavour::Px4, faults.clone());
+    arm(&mut px4);
+    command(&mut px4, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7);
+    run(&mut px4, 7.9);
+    assert!(!px4.battery_critical && px4.mode == FlightMode::Hold);
+    run(&mut px4, 0.2);
+    assert!(px4.battery_critical);
+    assert_eq!(px4.mode, FlightMode::Land);
+
+    let mut ap = vehicle(Flavour::ArduPilot, faults);
+    set_mode(&mut ap, 4.0, 0.0);
+    arm(&mut ap);
+    command(
+        &mut ap,
+        MavCmd::MAV_CMD_NAV_TAKEOFF,
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0],
+    );
+    run(&mut ap, 8.1);
+    assert!(ap.battery_critical);
+    assert_eq!(ap.mode, FlightMode::ReturnToLaunch);
+    assert_eq!(ap.custom_mode(), 6);
+}
+
+#[test]
+fn requests_intervals_params_and_timesync_are_answered() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    assert_eq!(
+        command(
+            &mut v,
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            [148.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        ),
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    assert!(
+        v.outbox
+            .iter()
+            .any(|m| matches!(m, MavMessage::AUTOPILOT_VERSION(_)))
+    );
+    assert_eq!(
+        command(
+            &mut v,
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            [242.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        ),
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    assert!(
+        v.outbox
+            .iter()
+            .any(|m| matches!(m, MavMessage::HOME_POSITION(_)))
+    );
+    assert_eq!(
+        command(
+            &mut v,
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            [9999.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        ),
+        MavResult::MAV_RESULT_UNSUPPORTED
+    );
+    assert_eq!(
+        command(
+            &mut v,
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [32.0, 200_000.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        ),
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    assert_eq!(v.streams.period_s(32), Some(0.2));
+    v.outbox.clear();
+    v.handle(
+        GCS,
+        &MavMessage::PARAM_SET(PARAM_SET_DATA {
+            param_value: 3.5,
+            target_system: 1,
+            target_component: 1,
+            param_id: "MIS_TAKEOFF_ALT".into(),
+            param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
+        }),
+    );
+    assert!(matches!(v.outbox.as_slice(), [MavMessage::PARAM_VALUE(p)] if p.param_value == 3.5));
+    v.outbox.clear();
+    v.handle(
+        GCS,
+        &MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1: 42,
+            target_system: 0,
+            target_component: 0,
+        }),
+    );
+    assert!(
+        matches!(v.outbox.as_slice(), [MavMessage::TIMESYNC(t)] if t.ts1 == 42 && t.target_system == 255)
+    );
+}
+
+#[test]
+fn heartbeat_reports_armed_and_mode_explicitly() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    let Some(MavMessage::HEARTBEAT(hb)) = v.build_message(0) else {
+        panic!("no heartbeat")
+    };
+    assert!(
+        !hb.base_mode
+            .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED)
+    );
+    assert!(
+        hb.base_mode
+            .contains(MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED)
+    );
+    assert_eq!(hb.autopilot, MavAutopilot::MAV_AUTOPILOT_PX4);
+    arm(&mut v);
+    let Some(MavMessage::HEARTBEAT(hb)) = v.build_message(0) else {
+        panic!("no heartbeat")
+    };
+    assert!(
+        hb.base_mode
+            .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED)
+    );
+    assert_eq!(hb.custom_mode, 0x0304_0000);
+}
