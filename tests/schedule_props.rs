@@ -45,7 +45,7 @@ fn random_plan(rng: &mut ChaCha8Rng, world: &VoxelGrid, drones: usize, steps: u3
                         c[axis] -= 1
                     }
                     let to = Voxel::from(c);
-                    let taken_next = next.iter().any(|n| *n == Some(to));
+                    let taken_next = next.contains(&Some(to));
                     let occupant = now.iter().position(|&v| v == to);
                     let free_now = match occupant {
                         None => true,

@@ -103,8 +103,16 @@ pub fn solve(tpg: &Tpg) -> Result<Schedule, ScheduleError> {
         match stn.topological_order() {
             Ok(order) => return Ok(layout.schedule(tpg, stn, &order, &rest)),
             Err(cycle) => {
-                let mut split_any = false;
-                for component in &cycle.components {
+                // First split only where an edge inside a cycle enters a run mid-way;
+                // if that is not possible, every constrained marker of the cyclic runs.
+                let targeted = layout.split_cycle_entries(tpg, &cycle.components, &mut rest);
+                let mut split_any = targeted;
+                let fallback = if targeted {
+                    &[][..]
+                } else {
+                    &cycle.components[..]
+                };
+                for component in fallback {
                     for &tp in component.iter().filter(|&&tp| tp >= FIRST_SEGMENT) {
                         let (drone, seg) = layout.owner[tp as usize];
                         let (first, last) = layout.bounds[drone as usize][seg as usize];
@@ -192,6 +200,34 @@ impl Layout {
             owner,
             segment_of,
         }
+    }
+
+    /// Makes a stop of every `Enter` marker whose type-2 edge joins two runs of one
+    /// strongly connected component. Returns whether anything changed.
+    fn split_cycle_entries(
+        &self,
+        tpg: &Tpg,
+        components: &[Vec<u32>],
+        rest: &mut [Vec<bool>],
+    ) -> bool {
+        let mut component = vec![u32::MAX; self.owner.len()];
+        for (c, members) in components.iter().enumerate() {
+            for &tp in members {
+                component[tp as usize] = c as u32;
+            }
+        }
+        let mut split_any = false;
+        for e in &tpg.cross_edges {
+            let (from_tp, _) = self.reach(tpg, e.from.drone, e.from.index);
+            let (to_tp, _) = self.leave(tpg, e.to.drone, e.to.index);
+            let c = component[to_tp as usize];
+            let target = &mut rest[e.to.drone as usize][e.to.index as usize];
+            if c != u32::MAX && component[from_tp as usize] == c && !*target {
+                *target = true;
+                split_any = true;
+            }
+        }
+        split_any
     }
 
     fn timepoint(&self, drone: u32, seg: u32) -> u32 {

@@ -144,7 +144,10 @@ fn validate_times(samples: &[Vec<[f64; 4]>]) -> Result<Vec<f64>, CheckError> {
     if times.len() > 1 {
         let period = times[1] - times[0];
         for (index, w) in times.windows(2).enumerate() {
-            if !(period > 0.0) || ((w[1] - w[0]) - period).abs() > 1e-6 * period.max(1.0) {
+            if period.is_nan()
+                || period <= 0.0
+                || ((w[1] - w[0]) - period).abs() > 1e-6 * period.max(1.0)
+            {
                 return Err(CheckError::Period { index: index + 1 });
             }
         }
