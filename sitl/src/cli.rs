@@ -1,1 +1,358 @@
-pub fn placeholder() {}
+//! Command line shared by the `swarmctl-sitl` binary and `swarmctl sitl`:
+//! how many vehicles, where, which flavour, and which faults.
+
+use crate::config::{Faults, Flavour, LinkDrop, VehicleConfig};
+use crate::geo::GeoPoint;
+use crate::swarm::{Swarm, spawn};
+use anyhow::{Context, bail};
+use std::collections::HashMap;
+use std::net::IpAddr;
+use std::time::Duration;
+
+/// Run N mock autopilots until Ctrl-C (or benchmark them with --bench).
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    /// Number of vehicles; vehicle i gets system id i+1 and port BASE_PORT+i.
+    #[arg(long, default_value_t = 1)]
+    pub vehicles: u8,
+    /// Autopilot imitated: px4 or ardupilot.
+    #[arg(long, default_value = "px4")]
+    pub flavour: Flavour,
+    /// UDP port of vehicle 1 (PX4's multi-vehicle convention); 0 picks ephemeral ports.
+    #[arg(long, default_value_t = 14540)]
+    pub base_port: u16,
+    /// Address the vehicles listen on.
+    #[arg(long, default_value = "127.0.0.1")]
+    pub bind: IpAddr,
+    /// Also stream all vehicles' messages to this UDP port (a ground station).
+    #[arg(long)]
+    pub gcs_port: Option<u16>,
+    /// Fixed physics step rate, Hz.
+    #[arg(long, default_value_t = 100.0)]
+    pub physics_hz: f64,
+    /// Position and attitude telemetry rate, Hz.
+    #[arg(long, default_value_t = 20.0)]
+    pub telemetry_hz: f64,
+    /// Vehicles start in a row along east, this far apart (shared local NED frame), metres.
+    #[arg(long, default_value_t = 2.0)]
+    pub spacing_m: f32,
+    /// Speed limit of every vehicle, m/s.
+    #[arg(long, default_value_t = 5.0)]
+    pub max_speed_mps: f32,
+    /// Acceleration limit of every vehicle, m/s².
+    #[arg(long, default_value_t = 3.0)]
+    pub max_accel_mps2: f32,
+    /// Seed of sensor noise and packet-loss draws (each vehicle adds its system id).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// PX4: after offboard loss, hold this long, then land, seconds.
+    #[arg(long, default_value_t = 5.0)]
+    pub offboard_loss_land_after_s: f64,
+    /// MAVLink 2 signing key for all vehicles, 64 hex digits.
+    #[arg(long)]
+    pub signing_key: Option<String>,
+    /// Packet loss in percent: `10` for all vehicles or `SYSID:10` for one (repeatable).
+    #[arg(long = "loss", value_name = "[SYSID:]PERCENT")]
+    pub loss: Vec<String>,
+    /// Added one-way latency in ms: `50` for all or `SYSID:50` for one (repeatable).
+    #[arg(long = "latency-ms", value_name = "[SYSID:]MS")]
+    pub latency_ms: Vec<String>,
+    /// Slow drone: `SYSID:0.5` flies at half speed (repeatable).
+    #[arg(long = "slow", value_name = "SYSID:FACTOR")]
+    pub slow: Vec<String>,
+    /// Link drop: `SYSID@5s+3s` cuts the link 5 s after takeoff for 3 s (repeatable).
+    #[arg(long = "drop", value_name = "SYSID@AFTERs+FORs")]
+    pub drop: Vec<String>,
+    /// Refuse arming for this system id (repeatable).
+    #[arg(long = "refuse-arm", value_name = "SYSID")]
+    pub refuse_arm: Vec<u8>,
+    /// Low-battery failsafe: `SYSID@60s` goes critical after 60 s armed (repeatable).
+    #[arg(long = "low-battery", value_name = "SYSID@SECONDSs")]
+    pub low_battery: Vec<String>,
+    /// Benchmark instead of serving: run this many seconds with an in-process
+    /// ground station receiving all telemetry, then report CPU use and missed ticks.
+    #[arg(long, value_name = "SECONDS")]
+    pub bench: Option<f64>,
+}
+
+/// Parses `10` (all vehicles) or `SYSID:10` (one vehicle).
+fn per_vehicle_number(spec: &str) -> anyhow::Result<(Option<u8>, f64)> {
+    let (id, value) = match spec.split_once(':') {
+        Some((id, value)) => (
+            Some(
+                id.trim()
+                    .parse::<u8>()
+                    .with_context(|| format!("bad system id in {spec:?}"))?,
+            ),
+            value,
+        ),
+        None => (None, spec),
+    };
+    let value = value
+        .trim()
+        .parse::<f64>()
+        .with_context(|| format!("bad number in {spec:?}"))?;
+    Ok((id, value))
+}
+
+/// Parses `5s`, `5` or `2.5s` as a duration.
+fn seconds(text: &str) -> anyhow::Result<Duration> {
+    let value: f64 = text
+        .trim()
+        .trim_end_matches('s')
+        .parse()
+        .with_context(|| format!("bad duration {text:?}"))?;
+    Duration::try_from_secs_f64(value).with_context(|| format!("bad duration {text:?}"))
+}
+
+/// Parses `SYSID@5s+3s`.
+fn link_drop(spec: &str) -> anyhow::Result<(u8, LinkDrop)> {
+    let (id, times) = spec
+        .split_once('@')
+        .with_context(|| format!("expected SYSID@AFTERs+FORs, got {spec:?}"))?;
+    let (after, duration) = times
+        .split_once('+')
+        .with_context(|| format!("expected SYSID@AFTERs+FORs, got {spec:?}"))?;
+    let id = id
+        .trim()
+        .parse()
+        .with_context(|| format!("bad system id in {spec:?}"))?;
+    Ok((
+        id,
+        LinkDrop {
+            after_takeoff: seconds(after)?,
+            duration: seconds(duration)?,
+        },
+    ))
+}
+
+/// Parses `SYSID@60s`.
+fn low_battery(spec: &str) -> anyhow::Result<(u8, Duration)> {
+    let (id, after) = spec
+        .split_once('@')
+        .with_context(|| format!("expected SYSID@SECONDSs, got {spec:?}"))?;
+    let id = id
+        .trim()
+        .parse()
+        .with_context(|| format!("bad system id in {spec:?}"))?;
+    Ok((id, seconds(after)?))
+}
+
+/// Parses a 64-hex-digit signing key.
+fn signing_key(hex: &str) -> anyhow::Result<[u8; 32]> {
+    let hex = hex.trim();
+    if hex.len() != 64 || !hex.is_ascii() {
+        bail!("signing key must be 64 hex digits");
+    }
+    let mut key = [0u8; 32];
+    for (i, byte) in key.iter_mut().enumerate() {
+        *byte =
+            u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).context("signing key must be hex")?;
+    }
+    Ok(key)
+}
+
+/// The faults of vehicle `id`, or an error naming the flag that asked for a missing vehicle.
+fn fault<'a>(
+    faults: &'a mut HashMap<u8, Faults>,
+    id: u8,
+    spec: &str,
+) -> anyhow::Result<&'a mut Faults> {
+    faults
+        .get_mut(&id)
+        .with_context(|| format!("{spec:?}: no vehicle with system id {id}"))
+}
+
+impl Args {
+    /// The vehicle configurations these arguments describe.
+    pub fn vehicle_configs(&self) -> anyhow::Result<Vec<VehicleConfig>> {
+        let ids: Vec<u8> = (1..=self.vehicles).collect();
+        let mut faults: HashMap<u8, Faults> =
+            ids.iter().map(|id| (*id, Faults::default())).collect();
+        for spec in &self.loss {
+            match per_vehicle_number(spec)? {
+                (Some(id), percent) => fault(&mut faults, id, spec)?.loss_percent = percent,
+                (None, percent) => faults.values_mut().for_each(|f| f.loss_percent = percent),
+            }
+        }
+        for spec in &self.latency_ms {
+            let (id, ms) = per_vehicle_number(spec)?;
+            let latency = Duration::try_from_secs_f64(ms / 1000.0)
+                .with_context(|| format!("bad latency {spec:?}"))?;
+            match id {
+                Some(id) => fault(&mut faults, id, spec)?.latency = latency,
+                None => faults.values_mut().for_each(|f| f.latency = latency),
+            }
+        }
+        for spec in &self.slow {
+            let (Some(id), factor) = per_vehicle_number(spec)? else {
+                bail!("--slow needs SYSID:FACTOR, got {spec:?}")
+            };
+            fault(&mut faults, id, spec)?.speed_factor = factor;
+        }
+        for spec in &self.drop {
+            let (id, drop) = link_drop(spec)?;
+            fault(&mut faults, id, spec)?.link_drop = Some(drop);
+        }
+        for id in &self.refuse_arm {
+            fault(&mut faults, *id, "--refuse-arm")?.refuse_arm = true;
+        }
+        for spec in &self.low_battery {
+            let (id, after) = low_battery(spec)?;
+            fault(&mut faults, id, spec)?.low_battery_after = Some(after);
+        }
+        let key = self.signing_key.as_deref().map(signing_key).transpose()?;
+        let land_after = Duration::try_from_secs_f64(self.offboard_loss_land_after_s)
+            .context("bad --offboard-loss-land-after-s")?;
+        ids.iter()
+            .enumerate()
+            .map(|(i, id)| {
+                let port = if self.base_port == 0 {
+                    0
+                } else {
+                    u16::try_from(usize::from(self.base_port) + i)
+                        .context("port number beyond 65535")?
+                };
+                let mut c = VehicleConfig::new(*id, self.flavour)
+                    .at(GeoPoint::default(), [0.0, self.spacing_m * i as f32, 0.0]);
+                c.port = port;
+                c.max_speed_mps = self.max_speed_mps;
+                c.max_accel_mps2 = self.max_accel_mps2;
+                c.faults = faults.remove(id).unwrap_or_default();
+                c.signing_key = key;
+                c.seed = self.seed.wrapping_add(u64::from(*id));
+                c.gcs_stream_port = self.gcs_port;
+                c.offboard_loss_land_after = land_after;
+                Ok(c)
+            })
+            .collect()
+    }
+}
+
+/// Runs the swarm until Ctrl-C, or the benchmark if `--bench` was given.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let configs = args.vehicle_configs()?;
+    let runtime = tokio::runtime::Runtime::new().context("cannot start the tokio runtime")?;
+    runtime.block_on(async move {
+        match args.bench {
+            Some(seconds) => {
+                crate::bench::run(
+                    args.bind,
+                    configs,
+                    args.physics_hz,
+                    args.telemetry_hz,
+                    seconds,
+                )
+                .await
+            }
+            None => serve(&args, configs).await,
+        }
+    })
+}
+
+async fn serve(args: &Args, configs: Vec<VehicleConfig>) -> anyhow::Result<()> {
+    let swarm: Swarm = spawn(args.bind, configs, args.physics_hz, args.telemetry_hz).await?;
+    for (i, address) in swarm.addresses().iter().enumerate() {
+        let s = swarm.snapshot(i);
+        println!(
+            "vehicle sysid {} ({:?}) listening on {address}: connect with udpout:{address}",
+            s.system_id, s.flavour
+        );
+    }
+    println!("{} vehicle(s) running; Ctrl-C to stop", swarm.len());
+    tokio::signal::ctrl_c()
+        .await
+        .context("waiting for Ctrl-C")?;
+    swarm.shutdown().await;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    fn parse(line: &[&str]) -> anyhow::Result<Vec<VehicleConfig>> {
+        let cli = Cli::try_parse_from(std::iter::once("sitl").chain(line.iter().copied()))?;
+        cli.args.vehicle_configs()
+    }
+
+    #[test]
+    fn fault_flags_reach_the_right_vehicles() -> anyhow::Result<()> {
+        let configs = parse(&[
+            "--vehicles",
+            "4",
+            "--base-port",
+            "15000",
+            "--loss",
+            "10",
+            "--loss",
+            "2:30",
+            "--latency-ms",
+            "50",
+            "--slow",
+            "3:0.5",
+            "--drop",
+            "4@5s+3s",
+            "--refuse-arm",
+            "1",
+            "--low-battery",
+            "2@60s",
+        ])?;
+        assert_eq!(
+            configs.iter().map(|c| c.port).collect::<Vec<_>>(),
+            [15000, 15001, 15002, 15003]
+        );
+        assert_eq!(
+            configs.iter().map(|c| c.system_id).collect::<Vec<_>>(),
+            [1, 2, 3, 4]
+        );
+        assert_eq!(configs[0].faults.loss_percent, 10.0);
+        assert_eq!(configs[1].faults.loss_percent, 30.0);
+        assert!(
+            configs
+                .iter()
+                .all(|c| c.faults.latency == Duration::from_millis(50))
+        );
+        assert_eq!(configs[2].faults.speed_factor, 0.5);
+        assert_eq!(
+            configs[3].faults.link_drop,
+            Some(LinkDrop {
+                after_takeoff: Duration::from_secs(5),
+                duration: Duration::from_secs(3)
+            })
+        );
+        assert!(configs[0].faults.refuse_arm && !configs[1].faults.refuse_arm);
+        assert_eq!(
+            configs[1].faults.low_battery_after,
+            Some(Duration::from_secs(60))
+        );
+        assert_eq!(configs[1].initial_position_ned_m, [0.0, 2.0, 0.0]);
+        Ok(())
+    }
+
+    #[test]
+    fn bad_fault_flags_are_errors_not_panics() {
+        for line in [
+            &["--slow", "0.5"][..],
+            &["--drop", "1@5s"],
+            &["--drop", "9@1s+1s"],
+            &["--low-battery", "x@1s"],
+            &["--loss", "1:abc"],
+            &["--signing-key", "abcd"],
+            &["--signing-key", "é"],
+            &["--latency-ms", "-5"],
+        ] {
+            assert!(parse(line).is_err(), "{line:?} should be rejected");
+        }
+        let key = "00".repeat(31) + "ff";
+        let configs = parse(&["--signing-key", &key]).expect("valid key");
+        assert_eq!(configs[0].signing_key.map(|k| k[31]), Some(0xff));
+    }
+}

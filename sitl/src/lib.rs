@@ -18,6 +18,7 @@
 //! ```
 
 pub mod ardupilot;
+mod bench;
 pub mod cli;
 pub mod codec;
 mod commands;
