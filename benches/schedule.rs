@@ -9,7 +9,47 @@ mod schedule_instances;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
-use swarmctl::{schedule, trajectory};
+use swarmctl::generate::{GenerateOptions, generate};
+use swarmctl::plan::{self, PlanOptions};
+use swarmctl::{mission, schedule, trajectory, verify};
+
+/// The paper's setting: 10×10×5, 150 obstacles, 100 drones in 5 groups, planned by CBM.
+fn paper_scale(c: &mut Criterion) {
+    let file = generate(&GenerateOptions::default()).expect("mission");
+    let m = mission::validate(&file).expect("valid mission");
+    let p = plan::solve(&m, &PlanOptions::default()).expect("plan").plan;
+    let tpg = schedule::build(&m, &p).expect("tpg");
+    let s = schedule::solve(&tpg).expect("schedule");
+    let lockstep_s = f64::from(p.makespan_steps) * m.world.voxel_size_m() / m.limits.max_speed_mps;
+    eprintln!(
+        "paper-scale: {} events, {} type-2 edges; makespan {:.2} s vs discrete {} steps x {} m / \
+         {} m/s = {lockstep_s:.2} s (ratio {:.2})",
+        tpg.event_count(),
+        tpg.cross_edges.len(),
+        s.makespan_s,
+        p.makespan_steps,
+        m.world.voxel_size_m(),
+        m.limits.max_speed_mps,
+        s.makespan_s / lockstep_s
+    );
+    let mut group = c.benchmark_group("paper-scale");
+    group.bench_function("build+solve+trajectories", |b| {
+        b.iter(|| {
+            let tpg = schedule::build(&m, black_box(&p)).unwrap();
+            let s = schedule::solve(&tpg).unwrap();
+            black_box(trajectory::from_schedule(&s))
+        })
+    });
+    let t = trajectory::from_schedule(&s);
+    group.bench_function("sample", |b| {
+        b.iter(|| black_box(t.sample(m.link.setpoint_rate_hz)))
+    });
+    let samples = t.sample(m.link.setpoint_rate_hz);
+    group.bench_function("verify", |b| {
+        b.iter(|| black_box(verify::check(&samples, &m.limits).unwrap()))
+    });
+    group.finish();
+}
 
 fn scaling(c: &mut Criterion) {
     let mut group = c.benchmark_group("schedule");
@@ -61,5 +101,5 @@ fn scaling(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, scaling);
+criterion_group!(benches, paper_scale, scaling);
 criterion_main!(benches);
