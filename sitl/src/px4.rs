@@ -83,7 +83,7 @@ pub fn mode_from_request(main: f32, sub: f32) -> Result<FlightMode, ModeRequestE
 
 /// A float command parameter as a small integer, if it is one.
 fn to_u8(value: f32) -> Option<u8> {
-    (value.is_finite() && value >= 0.0 && value <= 255.0 && value.fract() == 0.0)
+    (value.is_finite() && (0.0..=255.0).contains(&value) && value.fract() == 0.0)
         .then_some(value as u8)
 }
 
