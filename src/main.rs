@@ -21,6 +21,8 @@ enum Command {
     Gen(commands::generate::Args),
     /// Plan collision-free paths (makespan-optimal TAPF) and write the plan file.
     Plan(commands::plan::Args),
+    /// Run mock PX4 / ArduPilot quadcopters on UDP until Ctrl-C (see sitl/README.md).
+    Sitl(commands::sitl::Args),
     /// Print a commented mission template documenting every field.
     Template(commands::template::Args),
 }
@@ -31,6 +33,7 @@ fn main() -> ExitCode {
         Command::Check(args) => commands::check::run(args),
         Command::Gen(args) => commands::generate::run(args),
         Command::Plan(args) => commands::plan::run(args),
+        Command::Sitl(args) => commands::sitl::run(args),
         Command::Template(args) => commands::template::run(args),
     };
     match result {

@@ -3,4 +3,5 @@
 pub mod check;
 pub mod generate;
 pub mod plan;
+pub mod sitl;
 pub mod template;
