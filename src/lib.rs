@@ -4,7 +4,9 @@
 //! `trajectory` → `fly`. Each stage is a pure function of the one before, except
 //! `fly`, the only stage that talks to vehicles.
 
+pub mod fly;
 pub mod generate;
+pub mod link;
 pub mod mission;
 pub mod plan;
 pub mod schedule;

@@ -17,6 +17,8 @@ struct Cli {
 enum Command {
     /// Validate mission files and summarise them.
     Check(commands::check::Args),
+    /// Fly a mission over MAVLink (the bundled SITL when the mission names no endpoints).
+    Fly(commands::fly::Args),
     /// Generate a random mission like the paper's experiments.
     Gen(commands::generate::Args),
     /// Plan collision-free paths (makespan-optimal TAPF) and write the plan file.
@@ -31,6 +33,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Check(args) => commands::check::run(args),
+        Command::Fly(args) => commands::fly::run(args),
         Command::Gen(args) => commands::generate::run(args),
         Command::Plan(args) => commands::plan::run(args),
         Command::Sitl(args) => commands::sitl::run(args),

@@ -1,0 +1,200 @@
+//! `swarmctl fly`: plan (or load a plan), then fly it over MAVLink — against the
+//! mission's endpoints, or the bundled SITL when the mission names none.
+
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use swarmctl::fly::{self, FaultSpec, FlyOptions, StatusMode, VehicleLink};
+use swarmctl::mission::{self, Autopilot, Mission};
+use swarmctl::plan::{self, DiscretePlan};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Mission file (YAML).
+    mission: PathBuf,
+    /// Fly this plan (JSON from `swarmctl plan -o`) instead of planning now.
+    #[arg(long)]
+    plan: Option<PathBuf>,
+    /// Autopilot the bundled SITL imitates (default: the mission's `link.autopilot`).
+    #[arg(long, value_parser = ["px4", "ardupilot"])]
+    autopilot: Option<String>,
+    /// Bundled SITL fault, repeatable: loss=10%, latency=50ms, slow=DRONE_ID:0.5,
+    /// drop=DRONE_ID@5s+3s, refuse-arm=DRONE_ID.
+    #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
+    faults: Vec<FaultSpec>,
+    /// Flight log (JSON); default flights/<mission>-<unix time>.json.
+    #[arg(long)]
+    log: Option<PathBuf>,
+    /// Planner deadline in seconds (when no --plan is given).
+    #[arg(long, default_value_t = 60.0)]
+    deadline: f64,
+    /// Print a plain status line every few seconds instead of a spinner.
+    #[arg(long)]
+    plain: bool,
+}
+
+fn parse_fault(s: &str) -> Result<FaultSpec, String> {
+    fly::parse_fault(s).map_err(|e| e.reason)
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let mission = mission::load(&args.mission)?;
+    let plan = match &args.plan {
+        Some(path) => load_plan(path)?,
+        None => plan_now(&mission, args.deadline)?,
+    };
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    let log = runtime.block_on(fly_async(&args, &mission, &plan))?;
+    let path = args
+        .log
+        .clone()
+        .unwrap_or_else(|| default_log_path(&mission));
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    std::fs::write(&path, serde_json::to_string(&log)?)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    println!("{}: flew {} drones", mission.name, log.drones.len());
+    for line in log.summary.lines() {
+        println!("{line}");
+    }
+    for e in &log.events {
+        println!(
+            "  event {:6.1} s {}{}",
+            e.t_s,
+            e.drone
+                .as_deref()
+                .map(|d| format!("{d}: "))
+                .unwrap_or_default(),
+            e.message
+        );
+    }
+    println!("  log                  {}", path.display());
+    let ok = log.summary.completed && log.summary.min_separation_m >= log.summary.safety_distance_m;
+    Ok(if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+async fn fly_async(
+    args: &Args,
+    mission: &Mission,
+    plan: &DiscretePlan,
+) -> anyhow::Result<fly::FlightLog> {
+    let (abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    tokio::spawn(async move {
+        if tokio::signal::ctrl_c().await.is_ok() {
+            eprintln!("Ctrl-C: every drone holds, then lands (Ctrl-C again to quit at once)");
+            let _ = abort_tx.send(true);
+            if tokio::signal::ctrl_c().await.is_ok() {
+                std::process::exit(130);
+            }
+        }
+    });
+    let endpoints: Vec<Option<VehicleLink>> = plan
+        .drones
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            mission
+                .drones()
+                .find(|(_, m)| m.id == d.id)
+                .and_then(|(_, m)| {
+                    m.endpoint.clone().map(|endpoint| VehicleLink {
+                        endpoint,
+                        system_id: m.system_id.unwrap_or(i as u8 + 1),
+                    })
+                })
+        })
+        .collect();
+    let mut swarm = None;
+    let vehicles = if endpoints.iter().all(Option::is_none) {
+        let flavour = match args.autopilot.as_deref() {
+            Some("ardupilot") => swarmctl_sitl::Flavour::ArduPilot,
+            Some(_) => swarmctl_sitl::Flavour::Px4,
+            None => match mission.link.autopilot {
+                Autopilot::Px4 => swarmctl_sitl::Flavour::Px4,
+                Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
+            },
+        };
+        let configs = fly::sitl::vehicle_configs(mission, plan, flavour, &args.faults)?;
+        let (s, links) = fly::sitl::start(configs, mission.link.setpoint_rate_hz).await?;
+        eprintln!(
+            "started the bundled SITL: {} {flavour:?} vehicles on 127.0.0.1",
+            links.len()
+        );
+        swarm = Some(s);
+        links
+    } else {
+        if !args.faults.is_empty() || args.autopilot.is_some() {
+            anyhow::bail!(
+                "--fault and --autopilot apply to the bundled SITL only, but the mission names endpoints"
+            );
+        }
+        endpoints
+            .into_iter()
+            .zip(&plan.drones)
+            .map(|(e, d)| {
+                e.with_context(|| {
+                    format!(
+                        "drone {} has no endpoint (give all drones one, or none)",
+                        d.id
+                    )
+                })
+            })
+            .collect::<anyhow::Result<_>>()?
+    };
+    let mut options = FlyOptions::new(vehicles);
+    if args.plain {
+        options.status = StatusMode::Plain;
+    }
+    let result = fly::fly(mission, plan, &options, abort_rx).await;
+    if let Some(s) = swarm {
+        s.shutdown().await;
+    }
+    Ok(result?)
+}
+
+fn load_plan(path: &Path) -> anyhow::Result<DiscretePlan> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{} is not a plan written by `swarmctl plan`",
+            path.display()
+        )
+    })
+}
+
+fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> {
+    let options = plan::PlanOptions {
+        deadline: std::time::Duration::try_from_secs_f64(deadline_s)
+            .ok()
+            .filter(|d| !d.is_zero())
+            .context("--deadline must be a positive number of seconds")?,
+        ..plan::PlanOptions::default()
+    };
+    Ok(plan::solve(mission, &options)
+        .with_context(|| format!("planning {}", mission.name))?
+        .plan)
+}
+
+fn default_log_path(mission: &Mission) -> PathBuf {
+    let unix_s = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let name: String = mission
+        .name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    PathBuf::from("flights").join(format!("{name}-{unix_s}.json"))
+}

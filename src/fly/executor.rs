@@ -1,0 +1,537 @@
+//! The flight loop: one tick per setpoint period streams every drone's setpoint,
+//! folds in telemetry, opens TPG gates, watches separation and link health, and
+//! moves each drone through its phases (take off, fly the plan, land).
+
+use super::follower::{Follower, Hold, Setpoint};
+use super::gate::{Progress, closed_gate};
+use super::log::LogEvent;
+use super::monitor::{DroneStatus, Monitor};
+use super::path::Route;
+use crate::link::{Flavour, LinkError, Session, frames};
+use crate::trajectory::Profile;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use tokio::task::JoinHandle;
+
+/// Where a drone is in the flight.
+#[derive(Debug)]
+pub enum Phase {
+    /// PX4: streaming a ground hold so OFFBOARD is accepted, then switching.
+    EnterOffboard {
+        since: Instant,
+        task: Option<JoinHandle<Result<(), LinkError>>>,
+    },
+    /// PX4: climbing on our setpoints along a vertical profile started at `t0`.
+    Climb {
+        t0: Instant,
+        from_z_m: f64,
+    },
+    /// ArduPilot: the vehicle's own takeoff to the start altitude.
+    Takeoff {
+        task: Option<JoinHandle<Result<(), LinkError>>>,
+    },
+    /// Hovering at the start voxel until everyone is.
+    AtStart,
+    /// Following the plan.
+    Flying,
+    /// Holding at the goal until everyone is.
+    AtGoal,
+    /// Land commanded; waiting for touchdown and disarm.
+    Landing {
+        task: Option<JoinHandle<Result<(), LinkError>>>,
+    },
+    Landed,
+    /// Gave up on this drone (a refused command); it holds or lands by itself.
+    Failed(String),
+}
+
+impl Phase {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Phase::EnterOffboard { .. } => "offboard",
+            Phase::Climb { .. } | Phase::Takeoff { .. } => "takeoff",
+            Phase::AtStart => "at start",
+            Phase::Flying => "flying",
+            Phase::AtGoal => "at goal",
+            Phase::Landing { .. } => "landing",
+            Phase::Landed => "landed",
+            Phase::Failed(_) => "FAILED",
+        }
+    }
+}
+
+/// Everything the loop keeps per drone.
+pub struct DroneRun {
+    pub id: String,
+    pub session: Arc<Session>,
+    pub flavour: Flavour,
+    pub route: Route,
+    pub follower: Follower,
+    pub progress: Progress,
+    pub passed_events: usize,
+    pub phase: Phase,
+    /// Latest telemetry position (ENU) and velocity.
+    pub position_m: Option<[f64; 3]>,
+    pub speed_mps: f64,
+    pub link_lost: bool,
+    pub link_losses: usize,
+    pub gating_waits: usize,
+    pub gating_wait_s: f64,
+    pub waiting_for: Option<u32>,
+    pub final_distance_to_goal_m: Option<f64>,
+    /// Last setpoint streamed (held during takeoff phases and aborts).
+    pub last_setpoint: Option<Setpoint>,
+}
+
+/// Tunables of the loop.
+#[derive(Debug, Clone, Copy)]
+pub struct LoopSettings {
+    pub setpoint_rate_hz: f64,
+    pub link_timeout_s: f64,
+    pub max_speed_mps: f64,
+    pub max_accel_mps2: f64,
+    /// Telemetry this close to a commanded rest point counts as settled there.
+    pub settle_tolerance_m: f64,
+    /// Give up on plan execution (hold, then land) after this long.
+    pub execution_timeout_s: f64,
+}
+
+/// What the loop measured.
+#[derive(Debug, Default)]
+pub struct Outcome {
+    pub completed: bool,
+    pub executed_makespan_s: Option<f64>,
+    pub min_separation_m: f64,
+    pub closest_pair: Option<(String, String, f64)>,
+    pub min_separation_takeoff_landing_m: f64,
+    pub max_speed_mps: f64,
+    pub events: Vec<LogEvent>,
+}
+
+/// Runs the flight from armed-on-the-ground to landed (or to every drone given up).
+pub async fn run(
+    drones: &mut [DroneRun],
+    settings: LoopSettings,
+    armed_at: Instant,
+    mut abort: tokio::sync::watch::Receiver<bool>,
+    monitor: &mut Monitor,
+) -> Outcome {
+    let dt_s = 1.0 / settings.setpoint_rate_hz;
+    let mut tick = tokio::time::interval(Duration::from_secs_f64(dt_s));
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut out = Outcome {
+        min_separation_m: f64::INFINITY,
+        min_separation_takeoff_landing_m: f64::INFINITY,
+        ..Outcome::default()
+    };
+    let mut execution_t0: Option<Instant> = None;
+    let mut aborting = false;
+    let mut landing_started = false;
+    loop {
+        tick.tick().await;
+        let now = Instant::now();
+        let since_arm_s = now.duration_since(armed_at).as_secs_f64();
+        if !aborting && (*abort.borrow_and_update()) {
+            aborting = true;
+            out.events.push(event(
+                since_arm_s,
+                None,
+                "abort requested: every drone holds, then lands",
+            ));
+        }
+        if let Some(t0) = execution_t0
+            && !aborting
+            && now.duration_since(t0).as_secs_f64() > settings.execution_timeout_s
+        {
+            aborting = true;
+            out.events.push(event(
+                since_arm_s,
+                None,
+                "plan execution timed out: holding, then landing",
+            ));
+        }
+        read_telemetry(drones, &settings, now, since_arm_s, &mut out.events);
+        let t_exec_s = execution_t0.map(|t0| now.duration_since(t0).as_secs_f64());
+
+        // Gates first (from everyone's progress), then commanded motion.
+        if let Some(t_s) = t_exec_s {
+            step_flying(drones, &settings, t_s, dt_s, aborting);
+        }
+        for d in drones.iter_mut() {
+            advance_phase(d, &settings, now, since_arm_s, &mut out.events);
+        }
+        stream(drones).await;
+        measure(drones, t_exec_s, landing_started, &mut out);
+
+        // Everyone at the start: the plan clock starts.
+        if execution_t0.is_none()
+            && !aborting
+            && drones.iter().all(|d| matches!(d.phase, Phase::AtStart))
+        {
+            execution_t0 = Some(now);
+            for d in drones.iter_mut() {
+                d.phase = Phase::Flying;
+            }
+            out.events.push(event(
+                since_arm_s,
+                None,
+                "all drones at their start: executing the plan",
+            ));
+        }
+        let all_at_goal = drones.iter().all(|d| matches!(d.phase, Phase::AtGoal));
+        if all_at_goal && !landing_started {
+            out.completed = true;
+            out.executed_makespan_s = t_exec_s;
+        }
+        let all_holding = drones
+            .iter()
+            .all(|d| !matches!(d.phase, Phase::Flying) || d.follower.at_rest())
+            && drones
+                .iter()
+                .all(|d| !matches!(d.phase, Phase::EnterOffboard { .. } | Phase::Takeoff { .. }));
+        if !landing_started && (all_at_goal || (aborting && all_holding)) {
+            landing_started = true;
+            for d in drones.iter_mut() {
+                if let Some(p) = d.position_m {
+                    d.final_distance_to_goal_m = Some(distance(p, d.route.goal_m()));
+                }
+                if !matches!(d.phase, Phase::Failed(_) | Phase::Landed) {
+                    d.phase = Phase::Landing { task: None };
+                }
+            }
+        }
+        monitor.update(
+            since_arm_s,
+            t_exec_s,
+            out.min_separation_m,
+            drones.iter().map(status_of).collect(),
+        );
+        if landing_started
+            && drones
+                .iter()
+                .all(|d| matches!(d.phase, Phase::Landed | Phase::Failed(_)))
+        {
+            break;
+        }
+    }
+    monitor.finish();
+    if out.closest_pair.is_none() && out.min_separation_m.is_infinite() {
+        out.min_separation_m = f64::INFINITY;
+    }
+    out
+}
+
+fn event(t_s: f64, drone: Option<&str>, message: &str) -> LogEvent {
+    LogEvent {
+        t_s,
+        drone: drone.map(str::to_string),
+        message: message.to_string(),
+    }
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Copies the newest telemetry into each drone and detects link loss.
+fn read_telemetry(
+    drones: &mut [DroneRun],
+    settings: &LoopSettings,
+    now: Instant,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
+    for d in drones.iter_mut() {
+        let (position, heartbeat_age_s) = {
+            let s = d.session.state();
+            (s.position, s.heartbeat_age_s(now))
+        };
+        if let Some(p) = position {
+            d.position_m = Some(frames::enu_from_ned_f32(p.position_ned_m));
+            let v = p.velocity_ned_mps.map(f64::from);
+            d.speed_mps = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        }
+        let lost = heartbeat_age_s.is_none_or(|age| age > settings.link_timeout_s);
+        if lost && !d.link_lost {
+            d.link_losses += 1;
+            events.push(event(
+                since_arm_s,
+                Some(&d.id),
+                &format!(
+                    "link lost: no heartbeat for {:.1} s",
+                    settings.link_timeout_s
+                ),
+            ));
+        } else if !lost && d.link_lost {
+            events.push(event(since_arm_s, Some(&d.id), "link back"));
+        }
+        d.link_lost = lost;
+    }
+}
+
+/// Observed progress, gates and commanded motion of every flying drone.
+fn step_flying(
+    drones: &mut [DroneRun],
+    settings: &LoopSettings,
+    t_s: f64,
+    dt_s: f64,
+    aborting: bool,
+) {
+    for d in drones.iter_mut() {
+        if !matches!(d.phase, Phase::Flying | Phase::AtGoal) || d.link_lost {
+            continue;
+        }
+        if let Some(p) = d.position_m {
+            let arc = d.follower.arc_m(&d.route, t_s);
+            let run = d.follower.run_index();
+            d.progress.observe(&d.route, p, arc, run);
+        }
+    }
+    let progress: Vec<Progress> = drones.iter().map(|d| d.progress.clone()).collect();
+    for d in drones.iter_mut() {
+        if !matches!(d.phase, Phase::Flying) {
+            continue;
+        }
+        if aborting {
+            d.follower.halt();
+        }
+        let arc = d.follower.arc_m(&d.route, t_s);
+        let (gate_arc_m, blocker) = closed_gate(&d.route, &mut d.passed_events, &progress, arc);
+        let rest_point = d.follower.setpoint(&d.route, t_s).position_m;
+        let settled = d
+            .position_m
+            .is_some_and(|p| distance(p, rest_point) <= settings.settle_tolerance_m);
+        let was_gated = d.follower.hold == Hold::Gate;
+        let setpoint = d.follower.step(&d.route, t_s, dt_s, gate_arc_m, settled);
+        if d.follower.hold == Hold::Gate && !aborting {
+            if !was_gated {
+                d.gating_waits += 1;
+            }
+            d.gating_wait_s += dt_s;
+            d.waiting_for = blocker;
+        } else {
+            d.waiting_for = None;
+        }
+        d.last_setpoint = Some(setpoint);
+        if d.follower.finished(&d.route)
+            && d.position_m
+                .is_some_and(|p| distance(p, d.route.goal_m()) <= settings.settle_tolerance_m)
+        {
+            d.phase = Phase::AtGoal;
+        }
+    }
+}
+
+/// Phase transitions that depend on commands and telemetry rather than the plan.
+fn advance_phase(
+    d: &mut DroneRun,
+    settings: &LoopSettings,
+    now: Instant,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
+    let start_m = d.route.start_m;
+    let hold_start = Setpoint {
+        position_m: start_m,
+        velocity_mps: [0.0; 3],
+    };
+    let failed = |d: &mut DroneRun, what: &str, e: String, events: &mut Vec<LogEvent>| {
+        events.push(event(since_arm_s, Some(&d.id), &format!("{what}: {e}")));
+        d.phase = Phase::Failed(format!("{what}: {e}"));
+    };
+    match &mut d.phase {
+        Phase::EnterOffboard { since, task } => {
+            // Hold on the ground where the vehicle is until OFFBOARD is in.
+            let ground = d.position_m.map_or([start_m[0], start_m[1], 0.0], |p| p);
+            if d.last_setpoint.is_none() {
+                d.last_setpoint = Some(Setpoint {
+                    position_m: ground,
+                    velocity_mps: [0.0; 3],
+                });
+            }
+            let since = *since;
+            match task {
+                None if now.duration_since(since) > Duration::from_millis(500) => {
+                    let session = d.session.clone();
+                    let mode = d.flavour.external_control_mode();
+                    *task = Some(tokio::spawn(async move { session.set_mode(mode).await }));
+                }
+                Some(t) if t.is_finished() => {
+                    let result = finished(t);
+                    match result {
+                        Ok(()) => {
+                            let from_z_m = d.last_setpoint.map_or(0.0, |s| s.position_m[2]);
+                            d.phase = Phase::Climb { t0: now, from_z_m };
+                        }
+                        Err(e) => failed(d, "OFFBOARD refused", e, events),
+                    }
+                }
+                _ => {}
+            }
+        }
+        Phase::Climb { t0, from_z_m } => {
+            let height_m = start_m[2] - *from_z_m;
+            let profile = Profile::new(
+                height_m.abs(),
+                settings.max_speed_mps,
+                settings.max_accel_mps2,
+            );
+            let tau = now.duration_since(*t0).as_secs_f64();
+            let sign = height_m.signum();
+            d.last_setpoint = Some(Setpoint {
+                position_m: [
+                    start_m[0],
+                    start_m[1],
+                    *from_z_m + sign * profile.distance_at_m(tau),
+                ],
+                velocity_mps: [0.0, 0.0, sign * profile.speed_at_mps(tau)],
+            });
+            if tau >= profile.duration_s()
+                && d.position_m
+                    .is_some_and(|p| distance(p, start_m) <= settings.settle_tolerance_m)
+            {
+                d.phase = Phase::AtStart;
+            }
+        }
+        Phase::Takeoff { task } => match task {
+            None => {
+                let session = d.session.clone();
+                let height_m = start_m[2] as f32;
+                *task = Some(tokio::spawn(async move { session.takeoff(height_m).await }));
+            }
+            Some(t) if t.is_finished() => match finished(t) {
+                Err(e) => failed(d, "takeoff refused", e, events),
+                Ok(()) => {
+                    // Copter climbs by itself; stream only once it is up, then
+                    // correct the last centimetres with our setpoint.
+                    if d.position_m.is_some_and(|p| p[2] >= start_m[2] - 0.15) {
+                        d.last_setpoint = Some(hold_start);
+                        if d.position_m
+                            .is_some_and(|p| distance(p, start_m) <= settings.settle_tolerance_m)
+                        {
+                            d.phase = Phase::AtStart;
+                        }
+                    }
+                }
+            },
+            _ => {}
+        },
+        Phase::AtStart => d.last_setpoint = Some(hold_start),
+        Phase::Landing { task } => match task {
+            None => {
+                let session = d.session.clone();
+                let mode = d.flavour.land_mode();
+                *task = Some(tokio::spawn(async move {
+                    session.set_mode(mode).await?;
+                    session
+                        .confirm("touchdown and disarm", Duration::from_secs(60), |s| {
+                            !s.armed
+                        })
+                        .await
+                }));
+            }
+            Some(t) if t.is_finished() => match finished(t) {
+                Ok(()) => d.phase = Phase::Landed,
+                Err(e) => failed(d, "landing", e, events),
+            },
+            _ => {}
+        },
+        Phase::Flying | Phase::AtGoal | Phase::Landed | Phase::Failed(_) => {}
+    }
+}
+
+/// The result of a finished command task (panics and cancellations become errors).
+fn finished(task: &mut JoinHandle<Result<(), LinkError>>) -> Result<(), String> {
+    let Some(result) = futures_now(task) else {
+        return Err("task not finished".into());
+    };
+    result
+}
+
+fn futures_now(task: &mut JoinHandle<Result<(), LinkError>>) -> Option<Result<(), String>> {
+    use std::future::Future;
+    use std::task::{Context, Poll, Waker};
+    let mut cx = Context::from_waker(Waker::noop());
+    match std::pin::Pin::new(task).poll(&mut cx) {
+        Poll::Ready(Ok(r)) => Some(r.map_err(|e| e.to_string())),
+        Poll::Ready(Err(e)) => Some(Err(format!("command task failed: {e}"))),
+        Poll::Pending => None,
+    }
+}
+
+/// Sends every streaming drone its setpoint (NED on the wire).
+async fn stream(drones: &[DroneRun]) {
+    for d in drones {
+        let streaming = matches!(
+            d.phase,
+            Phase::EnterOffboard { .. }
+                | Phase::Climb { .. }
+                | Phase::AtStart
+                | Phase::Flying
+                | Phase::AtGoal
+        ) || (matches!(d.phase, Phase::Takeoff { .. })
+            && d.last_setpoint.is_some());
+        if !streaming {
+            continue;
+        }
+        if let Some(s) = d.last_setpoint {
+            // A failed send is one missed setpoint; the vehicle's own timeout and our
+            // link-loss detection deal with a link that stays down.
+            let _ = d
+                .session
+                .send_setpoint(
+                    frames::ned_f32_from_enu(s.position_m),
+                    frames::ned_f32_from_enu(s.velocity_mps),
+                )
+                .await;
+        }
+    }
+}
+
+/// Separation and speed from telemetry.
+fn measure(drones: &[DroneRun], t_exec_s: Option<f64>, landing: bool, out: &mut Outcome) {
+    let airborne: Vec<(usize, [f64; 3])> = drones
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| !matches!(d.phase, Phase::Landed | Phase::EnterOffboard { .. }))
+        .filter_map(|(i, d)| d.position_m.filter(|p| p[2] > 0.1).map(|p| (i, p)))
+        .collect();
+    let executing = t_exec_s.is_some() && !landing;
+    for (k, (i, a)) in airborne.iter().enumerate() {
+        for (j, b) in &airborne[k + 1..] {
+            let sep = distance(*a, *b);
+            if executing {
+                if sep < out.min_separation_m {
+                    out.min_separation_m = sep;
+                    out.closest_pair = Some((
+                        drones[*i].id.clone(),
+                        drones[*j].id.clone(),
+                        t_exec_s.unwrap_or(0.0),
+                    ));
+                }
+            } else if sep < out.min_separation_takeoff_landing_m {
+                out.min_separation_takeoff_landing_m = sep;
+            }
+        }
+    }
+    if executing {
+        for d in drones {
+            out.max_speed_mps = out.max_speed_mps.max(d.speed_mps);
+        }
+    }
+}
+
+fn status_of(d: &DroneRun) -> DroneStatus {
+    let events = d.route.events.len().max(1);
+    DroneStatus {
+        id: d.id.clone(),
+        phase: if d.link_lost {
+            "LINK LOST"
+        } else {
+            d.phase.name()
+        },
+        progress: d.progress.reached as f64 / events as f64,
+        next_reach_s: d.route.events.get(d.progress.reached).map(|e| e.reach_s),
+        waiting_for: d.waiting_for,
+    }
+}

@@ -1,0 +1,179 @@
+//! `--fault` flags for the bundled SITL: `loss=10%`, `latency=50ms`,
+//! `slow=DRONE_ID:0.5`, `drop=DRONE_ID@5s+3s`, `refuse-arm=DRONE_ID`.
+
+use std::time::Duration;
+
+/// One parsed `--fault` flag.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FaultSpec {
+    /// Drop this share of packets (percent) in each direction, every vehicle.
+    Loss { percent: f64 },
+    /// Add this latency in each direction, every vehicle.
+    Latency { latency: Duration },
+    /// This drone flies at `factor` times the speed it is commanded.
+    Slow { drone: String, factor: f64 },
+    /// Cut this drone's link `after` takeoff, for `duration`.
+    Drop {
+        drone: String,
+        after: Duration,
+        duration: Duration,
+    },
+    /// This drone refuses to arm (fails its pre-arm checks).
+    RefuseArm { drone: String },
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("--fault {flag}: {reason}")]
+pub struct FaultError {
+    pub flag: String,
+    pub reason: String,
+}
+
+impl FaultSpec {
+    /// The drone the fault names, if it names one.
+    pub fn drone(&self) -> Option<&str> {
+        match self {
+            FaultSpec::Slow { drone, .. }
+            | FaultSpec::Drop { drone, .. }
+            | FaultSpec::RefuseArm { drone } => Some(drone),
+            FaultSpec::Loss { .. } | FaultSpec::Latency { .. } => None,
+        }
+    }
+}
+
+/// Parses one `--fault` value.
+pub fn parse_fault(flag: &str) -> Result<FaultSpec, FaultError> {
+    let bad = |reason: &str| FaultError {
+        flag: flag.to_string(),
+        reason: reason.to_string(),
+    };
+    let (kind, value) = flag
+        .split_once('=')
+        .ok_or_else(|| bad("expected KIND=VALUE (loss=10%, latency=50ms, slow=ID:0.5, drop=ID@5s+3s, refuse-arm=ID)"))?;
+    match kind {
+        "loss" => {
+            let number = value
+                .strip_suffix('%')
+                .ok_or_else(|| bad("loss needs a percentage, like loss=10%"))?;
+            let percent: f64 = number.parse().map_err(|_| bad("loss is not a number"))?;
+            if !(0.0..=100.0).contains(&percent) {
+                return Err(bad("loss must be between 0% and 100%"));
+            }
+            Ok(FaultSpec::Loss { percent })
+        }
+        "latency" => Ok(FaultSpec::Latency {
+            latency: parse_duration(value)
+                .ok_or_else(|| bad("latency needs a duration like 50ms or 0.2s"))?,
+        }),
+        "slow" => {
+            let (drone, factor) = value
+                .rsplit_once(':')
+                .ok_or_else(|| bad("expected slow=DRONE_ID:FACTOR, like slow=b1:0.5"))?;
+            let factor: f64 = factor
+                .parse()
+                .map_err(|_| bad("speed factor is not a number"))?;
+            if !(factor > 0.0 && factor <= 10.0) {
+                return Err(bad("speed factor must be in (0, 10]"));
+            }
+            non_empty(drone).ok_or_else(|| bad("missing drone id"))?;
+            Ok(FaultSpec::Slow {
+                drone: drone.to_string(),
+                factor,
+            })
+        }
+        "drop" => {
+            let (drone, times) = value
+                .split_once('@')
+                .ok_or_else(|| bad("expected drop=DRONE_ID@AFTER+FOR, like drop=b1@5s+3s"))?;
+            let (after, duration) = times
+                .split_once('+')
+                .ok_or_else(|| bad("expected drop=DRONE_ID@AFTER+FOR, like drop=b1@5s+3s"))?;
+            non_empty(drone).ok_or_else(|| bad("missing drone id"))?;
+            Ok(FaultSpec::Drop {
+                drone: drone.to_string(),
+                after: parse_duration(after)
+                    .ok_or_else(|| bad("AFTER is not a duration like 5s"))?,
+                duration: parse_duration(duration)
+                    .ok_or_else(|| bad("FOR is not a duration like 3s"))?,
+            })
+        }
+        "refuse-arm" => Ok(FaultSpec::RefuseArm {
+            drone: non_empty(value)
+                .ok_or_else(|| bad("missing drone id"))?
+                .to_string(),
+        }),
+        _ => Err(bad(
+            "unknown fault kind (loss, latency, slow, drop, refuse-arm)",
+        )),
+    }
+}
+
+fn non_empty(s: &str) -> Option<&str> {
+    (!s.is_empty()).then_some(s)
+}
+
+/// `50ms`, `1.5s`.
+fn parse_duration(text: &str) -> Option<Duration> {
+    let (number, scale) = if let Some(n) = text.strip_suffix("ms") {
+        (n, 1e-3)
+    } else if let Some(n) = text.strip_suffix('s') {
+        (n, 1.0)
+    } else {
+        return None;
+    };
+    let value: f64 = number.parse().ok()?;
+    Duration::try_from_secs_f64(value * scale).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_kind() {
+        assert_eq!(
+            parse_fault("loss=10%"),
+            Ok(FaultSpec::Loss { percent: 10.0 })
+        );
+        assert_eq!(
+            parse_fault("latency=50ms"),
+            Ok(FaultSpec::Latency {
+                latency: Duration::from_millis(50)
+            })
+        );
+        assert_eq!(
+            parse_fault("slow=b1:0.5"),
+            Ok(FaultSpec::Slow {
+                drone: "b1".into(),
+                factor: 0.5
+            })
+        );
+        assert_eq!(
+            parse_fault("drop=b1@5s+3s"),
+            Ok(FaultSpec::Drop {
+                drone: "b1".into(),
+                after: Duration::from_secs(5),
+                duration: Duration::from_secs(3)
+            })
+        );
+    }
+
+    #[test]
+    fn malformed_flags_name_the_flag() {
+        for flag in [
+            "loss=10",
+            "loss=x%",
+            "slow=b1",
+            "slow=b1:0",
+            "drop=b1@5s",
+            "latency=5",
+            "wind=3",
+        ] {
+            let e = parse_fault(flag).unwrap_err();
+            assert!(
+                e.to_string().starts_with(&format!("--fault {flag}:")),
+                "{e}"
+            );
+        }
+    }
+}

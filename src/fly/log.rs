@@ -1,0 +1,108 @@
+//! The flight log: every drone's telemetry and a summary of how the flight went.
+
+use serde::{Deserialize, Serialize};
+
+/// Written as JSON by `swarmctl fly --log`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FlightLog {
+    pub mission: String,
+    pub summary: Summary,
+    pub drones: Vec<DroneLog>,
+    /// Notable moments in order: link losses, aborts, refusals.
+    pub events: Vec<LogEvent>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Summary {
+    /// Every drone reached its goal and the swarm landed.
+    pub completed: bool,
+    /// From the first arm command to the last drone landed (or the abort), seconds.
+    pub duration_s: f64,
+    /// The schedule's makespan: how long plan execution should take.
+    pub planned_makespan_s: f64,
+    /// How long plan execution took (all drones at their start to all at their goal).
+    pub executed_makespan_s: Option<f64>,
+    /// Smallest distance between two drones during plan execution, from telemetry.
+    pub min_separation_m: f64,
+    /// The two drones that came closest, and when (seconds into plan execution).
+    pub closest_pair: Option<(String, String, f64)>,
+    /// Smallest distance between two airborne drones during takeoff and landing,
+    /// which the plan does not cover (drones climb and descend vertically).
+    pub min_separation_takeoff_landing_m: f64,
+    pub safety_distance_m: f64,
+    /// Highest speed reported by any drone's telemetry.
+    pub max_speed_mps: f64,
+    pub speed_limit_mps: f64,
+    /// Times a drone stopped (or could not start) because a TPG predecessor was late.
+    pub gating_waits: usize,
+    /// Total time drones spent waiting at a closed gate, seconds.
+    pub gating_wait_s: f64,
+    /// Largest final distance from a drone to its goal (before landing), metres.
+    pub max_final_distance_to_goal_m: f64,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct DroneLog {
+    pub id: String,
+    pub system_id: u8,
+    pub endpoint: String,
+    pub autopilot: Option<String>,
+    /// Goal voxel centre, ENU metres.
+    pub goal_m: [f64; 3],
+    /// Distance to the goal when plan execution ended (before landing), metres.
+    pub final_distance_to_goal_m: Option<f64>,
+    pub gating_waits: usize,
+    pub gating_wait_s: f64,
+    pub link_losses: usize,
+    /// Telemetry samples `[t_s, x_m, y_m, z_m]` (ENU; t from the first arm command).
+    pub samples: Vec<[f64; 4]>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct LogEvent {
+    pub t_s: f64,
+    pub drone: Option<String>,
+    pub message: String,
+}
+
+impl Summary {
+    /// The lines `swarmctl fly` prints.
+    pub fn lines(&self) -> Vec<String> {
+        vec![
+            format!(
+                "  completed            {}",
+                if self.completed { "yes" } else { "NO" }
+            ),
+            format!(
+                "  duration             {:.1} s (arm to landed)",
+                self.duration_s
+            ),
+            format!(
+                "  plan execution       {} (planned {:.1} s)",
+                self.executed_makespan_s
+                    .map_or("not finished".to_string(), |s| format!("{s:.1} s")),
+                self.planned_makespan_s
+            ),
+            format!(
+                "  min separation       {:.3} m (safety distance {:.3} m){}",
+                self.min_separation_m,
+                self.safety_distance_m,
+                self.closest_pair
+                    .as_ref()
+                    .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
+            ),
+            format!(
+                "  max speed            {:.2} m/s (limit {:.2} m/s)",
+                self.max_speed_mps, self.speed_limit_mps
+            ),
+            format!(
+                "  gating waits         {} ({:.1} s in total)",
+                self.gating_waits, self.gating_wait_s
+            ),
+            format!(
+                "  final goal distance  ≤ {:.3} m",
+                self.max_final_distance_to_goal_m
+            ),
+        ]
+    }
+}

@@ -1,0 +1,125 @@
+//! The live status view: phase counts, progress, the slowest drone and how far
+//! behind schedule it is, and the minimum separation so far. A spinner line on a
+//! terminal, a plain line every few seconds otherwise (logs, CI), or nothing.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+/// What the view shows about one drone.
+#[derive(Debug, Clone)]
+pub struct DroneStatus {
+    pub id: String,
+    pub phase: &'static str,
+    /// Share of its TPG events observed reached, 0–1.
+    pub progress: f64,
+    /// Scheduled time of its next event, if any remain.
+    pub next_reach_s: Option<f64>,
+    /// Index of the drone it is waiting for at a closed gate.
+    pub waiting_for: Option<u32>,
+}
+
+/// How to show status.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StatusMode {
+    /// Spinner on a terminal, plain lines otherwise.
+    Auto,
+    Plain,
+    Quiet,
+}
+
+pub struct Monitor {
+    bar: Option<ProgressBar>,
+    plain: bool,
+    last_print: Option<Instant>,
+    plain_period: Duration,
+}
+
+impl Monitor {
+    pub fn new(mode: StatusMode) -> Self {
+        let tty = std::io::stderr().is_terminal();
+        let bar = (mode == StatusMode::Auto && tty).then(|| {
+            let bar = ProgressBar::new_spinner();
+            bar.set_style(
+                ProgressStyle::with_template("{spinner} {msg}").expect("static template"),
+            );
+            bar.enable_steady_tick(Duration::from_millis(200));
+            bar
+        });
+        Monitor {
+            plain: bar.is_none() && mode != StatusMode::Quiet,
+            bar,
+            last_print: None,
+            plain_period: Duration::from_secs(3),
+        }
+    }
+
+    /// One status line from the current state of every drone.
+    pub fn line(
+        since_arm_s: f64,
+        t_exec_s: Option<f64>,
+        min_separation_m: f64,
+        drones: &[DroneStatus],
+    ) -> String {
+        let mut phases: BTreeMap<&str, usize> = BTreeMap::new();
+        for d in drones {
+            *phases.entry(d.phase).or_default() += 1;
+        }
+        let phases: Vec<String> = phases.iter().map(|(p, n)| format!("{n} {p}")).collect();
+        let progress = drones.iter().map(|d| d.progress).sum::<f64>() / drones.len().max(1) as f64;
+        let mut line = format!(
+            "t={since_arm_s:5.1}s  {}  progress {:3.0}%",
+            phases.join(", "),
+            100.0 * progress
+        );
+        if let Some(t) = t_exec_s {
+            let slowest = drones
+                .iter()
+                .filter_map(|d| d.next_reach_s.map(|r| (d, t - r)))
+                .max_by(|a, b| a.1.total_cmp(&b.1));
+            if let Some((d, behind_s)) = slowest.filter(|(_, b)| *b > 0.0) {
+                line += &format!("  slowest {} {behind_s:.1}s behind", d.id);
+                if let Some(w) = d.waiting_for.and_then(|w| drones.get(w as usize)) {
+                    line += &format!(" (waiting for {})", w.id);
+                }
+            }
+            let waiting = drones.iter().filter(|d| d.waiting_for.is_some()).count();
+            if waiting > 0 {
+                line += &format!("  {waiting} gated");
+            }
+        }
+        if min_separation_m.is_finite() {
+            line += &format!("  min sep {min_separation_m:.2}m");
+        }
+        line
+    }
+
+    pub fn update(
+        &mut self,
+        since_arm_s: f64,
+        t_exec_s: Option<f64>,
+        min_separation_m: f64,
+        drones: Vec<DroneStatus>,
+    ) {
+        if let Some(bar) = &self.bar {
+            bar.set_message(Self::line(since_arm_s, t_exec_s, min_separation_m, &drones));
+        } else if self.plain
+            && self
+                .last_print
+                .is_none_or(|t| t.elapsed() >= self.plain_period)
+        {
+            self.last_print = Some(Instant::now());
+            eprintln!(
+                "{}",
+                Self::line(since_arm_s, t_exec_s, min_separation_m, &drones)
+            );
+        }
+    }
+
+    pub fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+}

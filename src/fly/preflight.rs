@@ -1,0 +1,174 @@
+//! Pre-flight: every vehicle answers, is a known autopilot, reports a position at
+//! its start and passes its pre-arm checks — all before anybody arms. Then arming,
+//! all or nothing: if one vehicle refuses, everyone already armed is disarmed.
+
+use super::error::FlyError;
+use crate::link::{Flavour, Session, frames};
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::task::JoinSet;
+
+/// How a vehicle must present itself before the swarm may arm.
+#[derive(Debug, Clone, Copy)]
+pub struct PreflightLimits {
+    pub heartbeat_timeout: Duration,
+    /// Horizontal distance allowed between a vehicle and the ground point below its start voxel.
+    pub start_tolerance_m: f64,
+    /// Rate at which position telemetry is requested.
+    pub position_rate_hz: f64,
+}
+
+/// Checks one vehicle; `Err` is a one-line explanation naming the drone.
+async fn check_one(
+    id: String,
+    session: Arc<Session>,
+    start_ground_enu_m: [f64; 3],
+    limits: PreflightLimits,
+) -> Result<Flavour, String> {
+    let flavour = session
+        .wait_heartbeat(limits.heartbeat_timeout)
+        .await
+        .map_err(|e| format!("{id} ({}): {e}", session.endpoint))?;
+    session
+        .request_rates(limits.position_rate_hz)
+        .await
+        .map_err(|e| format!("{id}: cannot set telemetry rates: {e}"))?;
+    session
+        .confirm(
+            "position and health telemetry",
+            Duration::from_secs(3),
+            |s| s.position.is_some() && s.prearm_ok.is_some(),
+        )
+        .await
+        .map_err(|e| format!("{id}: {e}"))?;
+    let (position, prearm_ok, armed, reason) = {
+        let s = session.state();
+        (
+            s.position
+                .map(|p| frames::enu_from_ned_f32(p.position_ned_m)),
+            s.prearm_ok.unwrap_or(false),
+            s.armed,
+            s.last_status_text.clone(),
+        )
+    };
+    if armed {
+        return Err(format!("{id}: already armed before pre-flight"));
+    }
+    if !prearm_ok {
+        return Err(format!(
+            "{id}: pre-arm checks fail (SYS_STATUS){}",
+            reason.map(|r| format!(": {r}")).unwrap_or_default()
+        ));
+    }
+    let position = position.unwrap_or([f64::NAN; 3]);
+    let horizontal_m = ((position[0] - start_ground_enu_m[0]).powi(2)
+        + (position[1] - start_ground_enu_m[1]).powi(2))
+    .sqrt();
+    if !(horizontal_m <= limits.start_tolerance_m) {
+        return Err(format!(
+            "{id}: at ENU ({:.2}, {:.2}, {:.2}) m, {horizontal_m:.2} m from below its start voxel \
+             ({:.2}, {:.2}); tolerance {:.2} m",
+            position[0],
+            position[1],
+            position[2],
+            start_ground_enu_m[0],
+            start_ground_enu_m[1],
+            limits.start_tolerance_m
+        ));
+    }
+    Ok(flavour)
+}
+
+/// Runs every check concurrently and returns each vehicle's flavour, or every failure.
+pub async fn check_all(
+    ids: &[String],
+    sessions: &[Arc<Session>],
+    starts_ground_enu_m: &[[f64; 3]],
+    limits: PreflightLimits,
+) -> Result<Vec<Flavour>, FlyError> {
+    let mut set = JoinSet::new();
+    for (i, (id, session)) in ids.iter().zip(sessions).enumerate() {
+        let fut = check_one(id.clone(), session.clone(), starts_ground_enu_m[i], limits);
+        set.spawn(async move { (i, fut.await) });
+    }
+    let mut flavours = vec![None; ids.len()];
+    let mut failures = Vec::new();
+    while let Some(joined) = set.join_next().await {
+        match joined {
+            Ok((i, Ok(f))) => flavours[i] = Some(f),
+            Ok((_, Err(why))) => failures.push(format!("  {why}")),
+            Err(e) => failures.push(format!("  a check task failed: {e}")),
+        }
+    }
+    if !failures.is_empty() {
+        failures.sort();
+        return Err(FlyError::Preflight(failures));
+    }
+    Ok(flavours
+        .into_iter()
+        .map(|f| f.unwrap_or(Flavour::Px4))
+        .collect())
+}
+
+/// Arms everyone (ArduPilot: GUIDED first, as Copter takes off only from GUIDED).
+/// If any vehicle fails, disarms every vehicle that is armed and reports why.
+pub async fn arm_all(
+    ids: &[String],
+    sessions: &[Arc<Session>],
+    flavours: &[Flavour],
+) -> Result<(), FlyError> {
+    let mut set = JoinSet::new();
+    for (i, session) in sessions.iter().enumerate() {
+        let session = session.clone();
+        let flavour = flavours[i];
+        set.spawn(async move {
+            if flavour == Flavour::Ardupilot {
+                session.set_mode(flavour.external_control_mode()).await?;
+            }
+            session.arm().await.map(|()| i)
+        });
+    }
+    let mut failures = Vec::new();
+    let mut index_of_failure = Vec::new();
+    while let Some(joined) = set.join_next().await {
+        match joined {
+            Ok(Ok(_)) => {}
+            Ok(Err(e)) => failures.push(e),
+            Err(e) => index_of_failure.push(format!("  an arming task failed: {e}")),
+        }
+    }
+    if failures.is_empty() && index_of_failure.is_empty() {
+        return Ok(());
+    }
+    // Name the drones that refused (the error carries the vehicle's reason).
+    let mut lines: Vec<String> = Vec::new();
+    for (id, session) in ids.iter().zip(sessions) {
+        if !session.state().armed {
+            lines.push(format!("  {id}: not armed"));
+        }
+    }
+    for e in &failures {
+        lines.push(format!("  {e}"));
+    }
+    lines.extend(index_of_failure);
+    disarm_all(ids, sessions, &mut lines).await;
+    Err(FlyError::Arming(lines))
+}
+
+/// Disarms every armed vehicle (on the ground: no force), noting failures in `lines`.
+pub async fn disarm_all(ids: &[String], sessions: &[Arc<Session>], lines: &mut Vec<String>) {
+    let mut set = JoinSet::new();
+    for (id, session) in ids.iter().zip(sessions) {
+        if session.state().armed {
+            let (id, session) = (id.clone(), session.clone());
+            set.spawn(async move { (id, session.disarm(false).await) });
+        }
+    }
+    while let Some(joined) = set.join_next().await {
+        match joined {
+            Ok((id, Ok(()))) => lines.push(format!("  {id}: disarmed")),
+            Ok((id, Err(e))) => lines.push(format!("  {id}: DISARM FAILED: {e}")),
+            Err(e) => lines.push(format!("  a disarm task failed: {e}")),
+        }
+    }
+}

@@ -1,0 +1,18 @@
+//! MAVLink sessions with PX4 and ArduPilot vehicles (rust-mavlink, tokio).
+//!
+//! One [`Session`] per vehicle: a reader task keeps the vehicle's state current,
+//! a heartbeat task announces us as a ground station (system 255) once a second,
+//! and commands are retried with MAVLink's confirmation counter until
+//! acknowledged. [`frames`] is the only place ENU meets NED.
+
+pub mod error;
+pub mod flavour;
+pub mod frames;
+pub mod messages;
+pub mod session;
+pub mod telemetry;
+
+pub use error::LinkError;
+pub use flavour::{Flavour, ModeRequest};
+pub use session::{CommandPolicy, Session};
+pub use telemetry::{PositionSample, VehicleState};

@@ -1,0 +1,376 @@
+//! One MAVLink session with one vehicle: a reader task that keeps its
+//! [`VehicleState`] current, a 1 Hz ground-station heartbeat task, and the
+//! request/acknowledge logic for commands.
+//!
+//! The connection is shared (`Arc`) between the tasks: rust-mavlink's async
+//! connection locks reader and writer separately, so sending setpoints never
+//! waits for a receive. Messages from any system other than the one we fly are
+//! ignored, so a stray vehicle or a second ground station cannot move our state.
+
+use super::error::LinkError;
+use super::flavour::{Flavour, ModeRequest};
+use super::messages::{
+    AUTOPILOT_COMPONENT_ID, GCS_COMPONENT_ID, GCS_SYSTEM_ID, command_long, gcs_heartbeat,
+    position_velocity_target,
+};
+use super::telemetry::{PositionSample, VehicleState};
+use mavlink::dialects::common::{
+    COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavResult, MavSysStatusSensor,
+};
+use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+use tokio::sync::broadcast;
+use tokio::task::JoinHandle;
+
+/// How often and how long a command is tried before giving up.
+#[derive(Debug, Clone, Copy)]
+pub struct CommandPolicy {
+    pub attempts: u8,
+    pub ack_timeout: Duration,
+}
+
+impl Default for CommandPolicy {
+    /// MAVSDK-like: five tries, 0.6 s each — survives 10 % loss each way comfortably.
+    fn default() -> Self {
+        Self {
+            attempts: 5,
+            ack_timeout: Duration::from_millis(600),
+        }
+    }
+}
+
+/// MAVLink message ids we ask the vehicle to stream.
+const LOCAL_POSITION_NED_ID: f32 = 32.0;
+const EXTENDED_SYS_STATE_ID: f32 = 245.0;
+const SYS_STATUS_ID: f32 = 1.0;
+
+/// A live session; dropping it stops its tasks.
+pub struct Session {
+    pub system_id: u8,
+    pub endpoint: String,
+    connection: Arc<AsyncConnection<MavMessage>>,
+    state: Arc<Mutex<VehicleState>>,
+    acks: broadcast::Sender<COMMAND_ACK_DATA>,
+    boot: Instant,
+    policy: CommandPolicy,
+    tasks: Vec<JoinHandle<()>>,
+}
+
+impl Drop for Session {
+    fn drop(&mut self) {
+        for task in &self.tasks {
+            task.abort();
+        }
+    }
+}
+
+impl Session {
+    /// Opens `endpoint` (any rust-mavlink address: `udpout:`, `udpin:`, `tcpout:` …)
+    /// and starts the reader and heartbeat tasks for vehicle `system_id`.
+    pub async fn connect(
+        endpoint: &str,
+        system_id: u8,
+        policy: CommandPolicy,
+    ) -> Result<Session, LinkError> {
+        let connection = mavlink::connect_async::<MavMessage>(endpoint)
+            .await
+            .map_err(|source| LinkError::Connect {
+                endpoint: endpoint.to_string(),
+                source,
+            })?;
+        let connection = Arc::new(connection);
+        let state = Arc::new(Mutex::new(VehicleState::default()));
+        let (acks, _) = broadcast::channel(32);
+        let reader = tokio::spawn(read_loop(
+            connection.clone(),
+            system_id,
+            state.clone(),
+            acks.clone(),
+        ));
+        let heartbeat = tokio::spawn(heartbeat_loop(connection.clone()));
+        Ok(Session {
+            system_id,
+            endpoint: endpoint.to_string(),
+            connection,
+            state,
+            acks,
+            boot: Instant::now(),
+            policy,
+            tasks: vec![reader, heartbeat],
+        })
+    }
+
+    /// The vehicle state (locked briefly: never hold it across an await).
+    pub fn state(&self) -> MutexGuard<'_, VehicleState> {
+        // A poisoned lock only means a reader panicked mid-update; the data is still
+        // the best we have.
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Waits for the vehicle's first heartbeat and returns its autopilot family.
+    pub async fn wait_heartbeat(&self, within: Duration) -> Result<Flavour, LinkError> {
+        let start = Instant::now();
+        loop {
+            {
+                let s = self.state();
+                if s.last_heartbeat.is_some() {
+                    return s.flavour.ok_or_else(|| LinkError::UnknownAutopilot {
+                        system_id: self.system_id,
+                        autopilot: s.autopilot_name.clone().unwrap_or_default(),
+                    });
+                }
+            }
+            if start.elapsed() >= within {
+                return Err(LinkError::NoHeartbeat {
+                    system_id: self.system_id,
+                    waited_s: within.as_secs_f64(),
+                });
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    }
+
+    /// Asks for position at `position_hz`, landed state at 5 Hz and health at 1 Hz.
+    pub async fn request_rates(&self, position_hz: f64) -> Result<(), LinkError> {
+        for (id, hz) in [
+            (LOCAL_POSITION_NED_ID, position_hz),
+            (EXTENDED_SYS_STATE_ID, 5.0),
+            (SYS_STATUS_ID, 1.0),
+        ] {
+            let interval_us = (1e6 / hz.max(0.1)) as f32;
+            self.command(
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [id, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
+            )
+            .await?;
+        }
+        Ok(())
+    }
+
+    /// Sends a COMMAND_LONG until acknowledged, incrementing the confirmation
+    /// counter on each retry (as MAVLink asks, so the vehicle can tell a retry from
+    /// a new command). ACCEPTED is `Ok`; a refusal carries the vehicle's STATUSTEXT.
+    pub async fn command(&self, command: MavCmd, params: [f32; 7]) -> Result<(), LinkError> {
+        let mut acks = self.acks.subscribe();
+        for attempt in 0..self.policy.attempts {
+            self.send(&command_long(self.system_id, command, params, attempt))
+                .await?;
+            let deadline = tokio::time::Instant::now() + self.policy.ack_timeout;
+            loop {
+                let ack = match tokio::time::timeout_at(deadline, acks.recv()).await {
+                    Err(_) => break, // this attempt timed out
+                    Ok(Err(broadcast::error::RecvError::Lagged(_))) => continue,
+                    Ok(Err(broadcast::error::RecvError::Closed)) => {
+                        return Err(LinkError::Send("session reader stopped".into()));
+                    }
+                    Ok(Ok(ack)) => ack,
+                };
+                if ack.command != command {
+                    continue;
+                }
+                match ack.result {
+                    MavResult::MAV_RESULT_ACCEPTED => return Ok(()),
+                    MavResult::MAV_RESULT_IN_PROGRESS => continue,
+                    // Worth another try after the timeout (PX4 offboard without a stream yet).
+                    MavResult::MAV_RESULT_TEMPORARILY_REJECTED => {
+                        if attempt + 1 == self.policy.attempts {
+                            return Err(self.refused(command, ack.result));
+                        }
+                        tokio::time::sleep_until(deadline).await;
+                        break;
+                    }
+                    result => return Err(self.refused(command, result)),
+                }
+            }
+        }
+        Err(LinkError::NoAck {
+            command,
+            attempts: self.policy.attempts,
+        })
+    }
+
+    fn refused(&self, command: MavCmd, result: MavResult) -> LinkError {
+        LinkError::Refused {
+            command,
+            result,
+            reason: self.state().last_status_text.clone(),
+        }
+    }
+
+    /// Arms and waits until the heartbeat shows SAFETY_ARMED.
+    pub async fn arm(&self) -> Result<(), LinkError> {
+        self.command(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await?;
+        self.confirm("armed state", Duration::from_secs(3), |s| s.armed)
+            .await
+    }
+
+    /// Disarms; `force` (param2 = 21196) also in the air — only for emergencies.
+    pub async fn disarm(&self, force: bool) -> Result<(), LinkError> {
+        let magic = if force { 21196.0 } else { 0.0 };
+        self.command(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            [0.0, magic, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await?;
+        self.confirm("disarmed state", Duration::from_secs(3), |s| !s.armed)
+            .await
+    }
+
+    /// Switches mode and waits for the heartbeat to show it.
+    pub async fn set_mode(&self, mode: ModeRequest) -> Result<(), LinkError> {
+        let base = f32::from(MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED.bits());
+        self.command(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            [base, mode.param2, mode.param3, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await?;
+        self.confirm(
+            &format!("mode {:#x}", mode.custom_mode),
+            Duration::from_secs(3),
+            |s| s.custom_mode == mode.custom_mode,
+        )
+        .await
+    }
+
+    /// ArduPilot-style takeoff: param7 is the height above home in metres.
+    pub async fn takeoff(&self, height_m: f32) -> Result<(), LinkError> {
+        self.command(
+            MavCmd::MAV_CMD_NAV_TAKEOFF,
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, height_m],
+        )
+        .await
+    }
+
+    /// Waits until `ok` holds on the vehicle state.
+    pub async fn confirm(
+        &self,
+        what: &str,
+        within: Duration,
+        ok: impl Fn(&VehicleState) -> bool,
+    ) -> Result<(), LinkError> {
+        let start = Instant::now();
+        while start.elapsed() < within {
+            if ok(&self.state()) {
+                return Ok(());
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        Err(LinkError::NotConfirmed {
+            what: what.to_string(),
+            waited_s: within.as_secs_f64(),
+        })
+    }
+
+    /// Streams one position + velocity setpoint (LOCAL_NED).
+    pub async fn send_setpoint(
+        &self,
+        position_ned_m: [f32; 3],
+        velocity_ned_mps: [f32; 3],
+    ) -> Result<(), LinkError> {
+        let time_boot_ms = self.boot.elapsed().as_millis() as u32;
+        self.send(&position_velocity_target(
+            self.system_id,
+            time_boot_ms,
+            position_ned_m,
+            velocity_ned_mps,
+        ))
+        .await
+    }
+
+    async fn send(&self, message: &MavMessage) -> Result<(), LinkError> {
+        self.connection
+            .send(&gcs_header(), message)
+            .await
+            .map(|_| ())
+            .map_err(|e| LinkError::Send(e.to_string()))
+    }
+}
+
+/// Our header; the connection fills in the sequence number itself.
+fn gcs_header() -> MavHeader {
+    MavHeader {
+        system_id: u32::from(GCS_SYSTEM_ID),
+        component_id: GCS_COMPONENT_ID,
+        sequence: 0,
+    }
+}
+
+/// The ground-station heartbeat, once a second for the session's lifetime.
+async fn heartbeat_loop(connection: Arc<AsyncConnection<MavMessage>>) {
+    let mut tick = tokio::time::interval(Duration::from_secs(1));
+    let heartbeat = gcs_heartbeat();
+    loop {
+        tick.tick().await;
+        // A failed send is retried next second; link loss is detected from the
+        // vehicle's side (its heartbeats stop), not from ours.
+        let _ = connection.send(&gcs_header(), &heartbeat).await;
+    }
+}
+
+/// Reads forever, folding messages from `system_id` into `state`.
+async fn read_loop(
+    connection: Arc<AsyncConnection<MavMessage>>,
+    system_id: u8,
+    state: Arc<Mutex<VehicleState>>,
+    acks: broadcast::Sender<COMMAND_ACK_DATA>,
+) {
+    loop {
+        let (header, message) = match connection.recv().await {
+            Ok(m) => m,
+            Err(_) => {
+                // ICMP "port unreachable" and the like: the vehicle may come back.
+                tokio::time::sleep(Duration::from_millis(20)).await;
+                continue;
+            }
+        };
+        if header.system_id != u32::from(system_id) {
+            continue;
+        }
+        let now = Instant::now();
+        let mut s = state.lock().unwrap_or_else(|e| e.into_inner());
+        match message {
+            MavMessage::HEARTBEAT(h) if header.component_id == AUTOPILOT_COMPONENT_ID => {
+                s.last_heartbeat = Some(now);
+                s.flavour = Flavour::from_autopilot(h.autopilot);
+                s.autopilot_name = Some(format!("{:?}", h.autopilot));
+                s.armed = h
+                    .base_mode
+                    .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
+                s.custom_mode = h.custom_mode;
+            }
+            MavMessage::LOCAL_POSITION_NED(p) => {
+                let sample = PositionSample {
+                    received: now,
+                    position_ned_m: [p.x, p.y, p.z],
+                    velocity_ned_mps: [p.vx, p.vy, p.vz],
+                };
+                s.position = Some(sample);
+                if s.recording {
+                    s.track.push(sample);
+                }
+            }
+            MavMessage::EXTENDED_SYS_STATE(e) => s.landed_state = Some(e.landed_state),
+            MavMessage::SYS_STATUS(st) => {
+                let check = MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK;
+                s.prearm_ok = Some(
+                    !st.onboard_control_sensors_present.contains(check)
+                        || st.onboard_control_sensors_health.contains(check),
+                );
+            }
+            MavMessage::STATUSTEXT(t) => {
+                s.last_status_text = t.text.to_str().ok().map(str::to_string);
+            }
+            MavMessage::COMMAND_ACK(a) => {
+                drop(s);
+                // No subscriber just means nobody is waiting for an answer.
+                let _ = acks.send(a);
+            }
+            _ => {}
+        }
+    }
+}

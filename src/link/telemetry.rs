@@ -1,0 +1,46 @@
+//! The latest known state of one vehicle, as its telemetry reported it.
+
+use super::flavour::Flavour;
+use mavlink::dialects::common::MavLandedState;
+use std::time::Instant;
+
+/// One LOCAL_POSITION_NED sample, stamped on arrival.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PositionSample {
+    pub received: Instant,
+    pub position_ned_m: [f32; 3],
+    pub velocity_ned_mps: [f32; 3],
+}
+
+/// What the reader task has learned so far. Everything is optional until heard.
+#[derive(Debug, Clone, Default)]
+pub struct VehicleState {
+    pub last_heartbeat: Option<Instant>,
+    pub flavour: Option<Flavour>,
+    /// HEARTBEAT autopilot field as text, for error messages about unknown autopilots.
+    pub autopilot_name: Option<String>,
+    pub armed: bool,
+    pub custom_mode: u32,
+    pub position: Option<PositionSample>,
+    pub landed_state: Option<MavLandedState>,
+    /// SYS_STATUS says pre-arm checks pass (`None` until a SYS_STATUS arrives).
+    pub prearm_ok: Option<bool>,
+    /// The latest STATUSTEXT: autopilots explain refusals there.
+    pub last_status_text: Option<String>,
+    /// Every position sample received, for the flight log (when recording is on).
+    pub track: Vec<PositionSample>,
+    pub recording: bool,
+}
+
+impl VehicleState {
+    /// Seconds since the last heartbeat, or `None` if none was ever heard.
+    pub fn heartbeat_age_s(&self, now: Instant) -> Option<f64> {
+        self.last_heartbeat
+            .map(|t| now.saturating_duration_since(t).as_secs_f64())
+    }
+
+    /// On the ground according to EXTENDED_SYS_STATE (unknown counts as not landed).
+    pub fn on_ground(&self) -> bool {
+        self.landed_state == Some(MavLandedState::MAV_LANDED_STATE_ON_GROUND)
+    }
+}
