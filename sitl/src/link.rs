@@ -76,7 +76,7 @@ pub(crate) struct Link {
     delayed_tx: Option<mpsc::UnboundedSender<Delayed>>,
 }
 
-/// Sequence numbers, CRC and signing are per link; the rest is the same for all messages.
+/// Component id every outgoing message carries (the autopilot).
 const AUTOPILOT_COMPONENT_ID: u8 = crate::commands::AUTOPILOT_COMPONENT_ID;
 
 impl Link {

@@ -197,7 +197,7 @@ impl Vehicle {
 
     /// MAV_LANDED_STATE as EXTENDED_SYS_STATE reports it.
     pub fn landed_state(&self) -> MavLandedState {
-        if self.landed() && self.takeoff_height_m.is_none() {
+        if self.landed() && (!self.armed || self.takeoff_height_m.is_none()) {
             MavLandedState::MAV_LANDED_STATE_ON_GROUND
         } else if self.takeoff_height_m.is_some() {
             MavLandedState::MAV_LANDED_STATE_TAKEOFF

@@ -207,6 +207,11 @@ impl Vehicle {
         if !matches!(mode, FlightMode::Takeoff | FlightMode::Guided) {
             self.takeoff_height_m = None;
         }
+        if mode == FlightMode::Guided {
+            // Entering GUIDED holds position until a new target arrives, as
+            // on Copter; an old target must not pull the vehicle back.
+            self.external = None;
+        }
         if mode == FlightMode::Takeoff && self.takeoff_height_m.is_none() {
             self.takeoff_height_m = Some(self.params.takeoff_alt_m());
         }

@@ -425,3 +425,38 @@ fn heartbeat_reports_armed_and_mode_explicitly() {
     );
     assert_eq!(hb.custom_mode, 0x0304_0000);
 }
+
+#[test]
+fn takeoff_mode_while_disarmed_stays_on_ground_until_armed() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    assert_eq!(set_mode(&mut v, 4.0, 2.0), MavResult::MAV_RESULT_ACCEPTED);
+    run(&mut v, 1.0);
+    assert!(v.landed());
+    assert_eq!(v.landed_state(), MavLandedState::MAV_LANDED_STATE_ON_GROUND);
+    arm(&mut v);
+    run(&mut v, 8.0);
+    assert!((v.body.height_m() - 2.5).abs() < 0.2);
+}
+
+#[test]
+fn ardupilot_reentering_guided_does_not_chase_an_old_target() {
+    let mut v = vehicle(Flavour::ArduPilot, Faults::default());
+    set_mode(&mut v, 4.0, 0.0);
+    arm(&mut v);
+    command(
+        &mut v,
+        MavCmd::MAV_CMD_NAV_TAKEOFF,
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0],
+    );
+    run(&mut v, 5.0);
+    position_target(&mut v, [5.0, 0.0, -2.0]);
+    run(&mut v, 1.0);
+    set_mode(&mut v, 5.0, 0.0); // LOITER: brake and hold
+    run(&mut v, 3.0);
+    let held = v.body.position_ned_m;
+    set_mode(&mut v, 4.0, 0.0); // back to GUIDED without a new target
+    run(&mut v, 3.0);
+    assert!(
+        crate::dynamics::norm(std::array::from_fn(|i| v.body.position_ned_m[i] - held[i])) < 0.1
+    );
+}
