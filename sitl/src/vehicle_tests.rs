@@ -460,3 +460,55 @@ fn ardupilot_reentering_guided_does_not_chase_an_old_target() {
         crate::dynamics::norm(std::array::from_fn(|i| v.body.position_ned_m[i] - held[i])) < 0.1
     );
 }
+
+#[test]
+fn global_int_targets_map_into_the_shared_local_frame() {
+    let mut config = VehicleConfig::new(1, Flavour::ArduPilot);
+    config = config.at(crate::geo::GeoPoint::default(), [10.0, -4.0, 0.0]);
+    let mut v = Vehicle::new(config, 20.0);
+    set_mode(&mut v, 4.0, 0.0);
+    arm(&mut v);
+    command(
+        &mut v,
+        MavCmd::MAV_CMD_NAV_TAKEOFF,
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0],
+    );
+    run(&mut v, 5.0);
+    let goal = v.home.offset_ned([3.0, 4.0, 0.0]);
+    #[allow(deprecated)] // the _INT frame is what clients put in this message
+    let frame = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+    v.handle(
+        GCS,
+        &MavMessage::SET_POSITION_TARGET_GLOBAL_INT(SET_POSITION_TARGET_GLOBAL_INT_DATA {
+            lat_int: goal.lat_e7(),
+            lon_int: goal.lon_e7(),
+            alt: 3.0,
+            type_mask: PositionTargetTypemask::from_bits_truncate(3576),
+            target_system: 1,
+            target_component: 1,
+            coordinate_frame: frame,
+            ..SET_POSITION_TARGET_GLOBAL_INT_DATA::default()
+        }),
+    );
+    run(&mut v, 8.0);
+    let p = v.body.position_ned_m;
+    // Home is at (10, -4, 0) in the shared frame; degE7 rounding is ~1 cm.
+    assert!(
+        (p[0] - 13.0).abs() < 0.05 && (p[1] - 0.0).abs() < 0.05 && (p[2] + 3.0).abs() < 0.05,
+        "{p:?}"
+    );
+}
+
+#[test]
+fn sensor_noise_is_deterministic_per_seed() {
+    let sample = |seed: u64| {
+        let mut config = VehicleConfig::new(1, Flavour::Px4);
+        config.seed = seed;
+        let mut v = Vehicle::new(config, 20.0);
+        (0..5)
+            .map(|_| format!("{:?}", v.build_message(32)))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(sample(9), sample(9));
+    assert_ne!(sample(9), sample(10));
+}
