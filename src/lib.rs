@@ -5,7 +5,9 @@
 //! `fly`, the only stage that talks to vehicles.
 
 pub mod fly;
+pub mod bench;
 pub mod generate;
+pub mod import;
 pub mod link;
 pub mod mission;
 pub mod plan;

@@ -15,6 +15,9 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Benchmark the pipeline's stages on seeded instances.
+    #[command(subcommand_required = true)]
+    Bench(commands::bench::Args),
     /// Validate mission files and summarise them.
     Check(commands::check::Args),
     /// Fly a mission over MAVLink (the bundled SITL when the mission names no endpoints).
@@ -32,6 +35,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Bench(args) => commands::bench::run(args),
         Command::Check(args) => commands::check::run(args),
         Command::Fly(args) => commands::fly::run(args),
         Command::Gen(args) => commands::generate::run(args),

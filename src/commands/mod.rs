@@ -1,5 +1,6 @@
 //! One file per subcommand: argument struct and the code that reports its result.
 
+pub mod bench;
 pub mod check;
 pub mod fly;
 pub mod generate;

@@ -3,12 +3,20 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
-use swarmctl::{mission, plan};
+use swarmctl::{import, plan};
 
 #[derive(Debug, clap::Args)]
+#[command(group = clap::ArgGroup::new("input").required(true).args(["mission", "scen"]))]
 pub struct Args {
-    /// Mission file (YAML).
-    mission: PathBuf,
+    /// Mission file (YAML), or an instance in a community format: a
+    /// libMultiRobotPlanning YAML, a MovingAI `.scen` or a MovingAI 3D `.3dscen`.
+    mission: Option<PathBuf>,
+    /// A MovingAI scenario (its map is looked up next to it); same as giving it as MISSION.
+    #[arg(long)]
+    scen: Option<PathBuf>,
+    /// How many agents to take from a scenario (default: all rows).
+    #[arg(long)]
+    agents: Option<usize>,
     /// Write the plan (JSON) here.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -21,7 +29,8 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let mission = mission::load(&args.mission)?;
+    let input = args.mission.or(args.scen).context("no mission given")?;
+    let mission = import::load_any(&input, args.agents)?;
     let deadline = Duration::try_from_secs_f64(args.deadline)
         .ok()
         .filter(|d| !d.is_zero())
@@ -44,7 +53,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ));
     });
     spinner.finish_and_clear();
-    let solution = result.with_context(|| format!("planning {}", args.mission.display()))?;
+    let solution = result.with_context(|| format!("planning {}", input.display()))?;
     if let Err(violations) = plan::validate_plan(&mission, &solution.plan) {
         let list: Vec<String> = violations.iter().map(|v| format!("  {v}")).collect();
         anyhow::bail!(
@@ -56,7 +65,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let p = &solution.plan;
     println!(
         "{}: planned {} drones in {} groups",
-        args.mission.display(),
+        input.display(),
         p.drones.len(),
         mission.groups.len()
     );

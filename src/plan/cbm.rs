@@ -23,7 +23,7 @@ struct Node {
 }
 
 /// Best-first order: makespan, then sum of costs, then fewer conflicts, then age.
-type Key = Reverse<(u32, u64, usize, u64)>;
+type Key = Reverse<(u32, u64, u64, u64)>;
 
 pub(crate) struct Search<'a> {
     pub space: &'a Space,
@@ -73,7 +73,12 @@ impl<'a> Search<'a> {
             |open: &mut BinaryHeap<(Key, usize)>, nodes: &mut Vec<Option<Node>>, node: Node| {
                 let id = nodes.len();
                 open.push((
-                    Reverse((node.makespan, node.sum_of_costs, node.conflicts, id as u64)),
+                    Reverse((
+                        node.makespan,
+                        node.conflicts as u64,
+                        node.sum_of_costs,
+                        id as u64,
+                    )),
                     id,
                 ));
                 nodes.push(Some(node));
@@ -85,7 +90,7 @@ impl<'a> Search<'a> {
                 continue;
             };
             self.stats.best_lower_bound_steps = self.stats.best_lower_bound_steps.max(makespan);
-            let Some(conflict) = node.first else {
+            let Some(conflict) = node.first.clone() else {
                 return Ok(node.routings);
             };
             self.stats.ct_nodes_expanded += 1;
@@ -266,26 +271,37 @@ enum Branch {
     Edge(u32, u32, u32),
 }
 
-/// The two ways out of a conflict: forbid it to one group or to the other.
-fn branches(conflict: Conflict) -> [(usize, Branch); 2] {
+/// The ways out of a conflict. A vertex or edge conflict is forbidden to one group
+/// or the other. A rotation gets one branch per move: any valid plan leaves at least
+/// one move of the cycle unmade (else it holds that very rotation), so forbidding
+/// each move in turn to its group loses no solution.
+fn branches(conflict: Conflict) -> Vec<(usize, Branch)> {
     match conflict {
         Conflict::Vertex {
             groups: [a, b],
             cell,
             step,
-        } => [
-            (a, Branch::Vertex(cell, step)),
-            (b, Branch::Vertex(cell, step)),
-        ],
+        } => {
+            vec![
+                (a, Branch::Vertex(cell, step)),
+                (b, Branch::Vertex(cell, step)),
+            ]
+        }
         Conflict::Edge {
             groups: [a, b],
             from,
             to,
             step,
-        } => [
-            (a, Branch::Edge(from, to, step)),
-            (b, Branch::Edge(to, from, step)),
-        ],
+        } => {
+            vec![
+                (a, Branch::Edge(from, to, step)),
+                (b, Branch::Edge(to, from, step)),
+            ]
+        }
+        Conflict::Rotation { moves, step } => moves
+            .into_iter()
+            .map(|(group, from, to)| (group, Branch::Edge(from, to, step)))
+            .collect(),
     }
 }
 

@@ -5,6 +5,7 @@ use super::constraints::Constraints;
 use super::max_flow::grow_until_routed;
 use super::min_cost_flow::route_at_least_cost;
 use super::network::{GroupCells, Network, Reservation};
+use super::rotation::remove_cycles;
 use super::space::Space;
 use std::time::Instant;
 
@@ -42,7 +43,8 @@ pub(crate) fn min_horizon(
 }
 
 /// Routes the group at `horizon`, steering around `others` where it can, then with the
-/// fewest steps spent away from goals; swaps inside the group are replaced by waits.
+/// fewest steps spent away from goals; swaps and rotations inside the group are
+/// replaced by waits.
 pub(crate) fn route(
     space: &Space,
     group: &GroupCells,
@@ -57,47 +59,6 @@ pub(crate) fn route(
     network.set_penalty(others, steps_at_most + 1);
     work.augmentations += route_at_least_cost(&mut network)?;
     let mut paths = network.paths();
-    remove_swaps(&mut paths, space.len());
+    remove_cycles(&mut paths, space.len());
     Some(paths)
-}
-
-/// Two drones of one group trading places along an edge would collide; as they are
-/// interchangeable, letting each keep its place and continue with the other's
-/// remaining path visits the same voxels at the same steps with no swap.
-pub(crate) fn remove_swaps(paths: &mut [Vec<u32>], cells: usize) {
-    let steps = paths.first().map_or(0, Vec::len);
-    let mut occupant = vec![u32::MAX; cells];
-    for t in 0..steps.saturating_sub(1) {
-        for (i, p) in paths.iter().enumerate() {
-            occupant[p[t] as usize] = i as u32;
-        }
-        for i in 0..paths.len() {
-            let (a, b) = (paths[i][t], paths[i][t + 1]);
-            if a == b {
-                continue;
-            }
-            let j = occupant[b as usize] as usize;
-            if j != u32::MAX as usize && j != i && paths[j][t + 1] == a {
-                let (lo, hi) = (i.min(j), i.max(j));
-                let (left, right) = paths.split_at_mut(hi);
-                left[lo][t + 1..].swap_with_slice(&mut right[0][t + 1..]);
-                // Both now wait at t; their places at t are unchanged.
-            }
-        }
-        for p in paths.iter() {
-            occupant[p[t] as usize] = u32::MAX;
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn swaps_become_waits() {
-        let mut paths = vec![vec![0, 1, 2], vec![1, 0, 3]];
-        remove_swaps(&mut paths, 4);
-        assert_eq!(paths, vec![vec![0, 0, 3], vec![1, 1, 2]]);
-    }
 }

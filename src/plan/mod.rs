@@ -16,6 +16,7 @@ mod max_flow;
 mod min_cost_flow;
 mod network;
 mod paths;
+mod rotation;
 mod solve;
 mod space;
 mod validator;

@@ -75,6 +75,11 @@ pub enum PlanViolation {
         to: Voxel,
         step: usize,
     },
+    #[error(
+        "drones {} rotate between steps {step} and {}: each enters the voxel the next leaves, which no drone can fly safely",
+        drones.join(", "), step + 1
+    )]
+    Rotation { drones: Vec<String>, step: usize },
     #[error("reported makespan {reported} but the last drone arrives at step {actual}")]
     Makespan { reported: u32, actual: u32 },
     #[error("reported sum of costs {reported} but the arrival steps add up to {actual}")]
@@ -224,6 +229,8 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
         }
     }
 
+    violations.extend(rotations(&common, expected_len));
+
     if latest_arrival != plan.makespan_steps {
         violations.push(PlanViolation::Makespan {
             reported: plan.makespan_steps,
@@ -241,4 +248,48 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
     } else {
         Err(violations)
     }
+}
+
+/// Cycles of three or more drones moving in one step, each into the voxel the next
+/// one leaves (two-drone cycles are swaps, reported above).
+fn rotations(drones: &[&super::discrete_plan::DronePlan], len: usize) -> Vec<PlanViolation> {
+    let mut found = Vec::new();
+    for step in 0..len.saturating_sub(1) {
+        let at_step: HashMap<Voxel, usize> = drones
+            .iter()
+            .enumerate()
+            .map(|(i, d)| (d.path[step], i))
+            .collect();
+        // successor[i] = the drone whose voxel drone i moves into, if that one moves too.
+        let successor = |i: usize| -> Option<usize> {
+            let d = drones[i];
+            let target = d.path[step + 1];
+            if target == d.path[step] {
+                return None;
+            }
+            let j = *at_step.get(&target)?;
+            (drones[j].path[step + 1] != drones[j].path[step]).then_some(j)
+        };
+        let mut reported: HashSet<usize> = HashSet::new();
+        for i in 0..drones.len() {
+            // Walk at most n successors; a cycle through i returns to i.
+            let mut members = vec![i];
+            let mut current = i;
+            while let Some(next) = successor(current) {
+                if next == i || members.len() > drones.len() {
+                    break;
+                }
+                members.push(next);
+                current = next;
+            }
+            let closes = successor(current) == Some(i);
+            if closes && members.len() >= 3 && members.iter().all(|m| reported.insert(*m)) {
+                found.push(PlanViolation::Rotation {
+                    drones: members.iter().map(|&m| drones[m].id.clone()).collect(),
+                    step,
+                });
+            }
+        }
+    }
+    found
 }

@@ -1,0 +1,72 @@
+use std::process::ExitCode;
+use std::time::Duration;
+use swarmctl::bench::{PlanSuite, median, peak_memory_bytes, run_plan_suite};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    target: Target,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum Target {
+    /// Time the planner on seeded random instances.
+    Plan {
+        /// Which instance family.
+        #[arg(long, value_enum, default_value = "paper")]
+        suite: PlanSuite,
+        /// Number of seeds (1..=N).
+        #[arg(long, default_value_t = 20)]
+        seeds: u64,
+        /// Per-instance deadline in seconds.
+        #[arg(long, default_value_t = 10.0)]
+        deadline: f64,
+    },
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let Target::Plan {
+        suite,
+        seeds,
+        deadline,
+    } = args.target;
+    let deadline = Duration::try_from_secs_f64(deadline)?;
+    let o = suite.options(1);
+    println!(
+        "suite {suite:?}: {}×{}×{} voxels, {} obstacles, {} drones in {} groups, seeds 1..={seeds}, deadline {deadline:?}",
+        o.dimensions[0], o.dimensions[1], o.dimensions[2], o.obstacles, o.drones, o.groups
+    );
+    let report = run_plan_suite(suite, seeds, deadline, |seed, result| match result {
+        Ok((time_s, makespan, lb, nodes)) => {
+            println!(
+                "  seed {seed:>3}: {time_s:>8.3} s  makespan {makespan:>3} (lower bound {lb:>3})  {nodes:>6} CT nodes"
+            )
+        }
+        Err(e) => println!("  seed {seed:>3}: FAILED: {e}"),
+    });
+    let at_bound = report.makespans.iter().filter(|(m, lb)| m == lb).count();
+    let excess: u32 = report.makespans.iter().map(|(m, lb)| m - lb).sum();
+    println!("solved          {}/{}", report.solved, report.instances);
+    if !report.times_s.is_empty() {
+        let max = report.times_s.iter().copied().fold(0.0, f64::max);
+        println!("median time     {:.4} s", median(&report.times_s));
+        println!("max time        {max:.4} s");
+        println!(
+            "makespan        {at_bound}/{} at the lower bound; {excess} steps above it in total",
+            report.solved
+        );
+        let nodes: Vec<f64> = report.ct_nodes.iter().map(|&n| n as f64).collect();
+        println!("median CT nodes {}", median(&nodes));
+    }
+    if let Some(bytes) = peak_memory_bytes() {
+        println!(
+            "peak memory     {:.1} MiB",
+            bytes as f64 / (1024.0 * 1024.0)
+        );
+    }
+    Ok(if report.solved == report.instances {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
