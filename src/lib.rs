@@ -6,6 +6,7 @@
 
 pub mod fly;
 pub mod bench;
+pub mod compiled;
 pub mod generate;
 pub mod import;
 pub mod link;

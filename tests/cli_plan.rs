@@ -30,7 +30,13 @@ fn plan_file(input: &Path, extra: &[&str]) -> DiscretePlan {
         .stdout(contains("conflict tree"));
     let text = std::fs::read_to_string(&out).expect("plan written");
     let json: serde_json::Value = serde_json::from_str(&text).expect("json");
-    for field in ["makespan_steps", "sum_of_costs_steps", "drones"] {
+    for field in [
+        "makespan_steps",
+        "sum_of_costs_steps",
+        "makespan_s",
+        "drones",
+        "execution",
+    ] {
         assert!(json.get(field).is_some(), "plan file lacks {field}");
     }
     for field in ["id", "group", "goal", "path"] {

@@ -3,7 +3,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
-use swarmctl::{import, plan};
+use swarmctl::{compiled, import, plan};
 
 #[derive(Debug, clap::Args)]
 #[command(group = clap::ArgGroup::new("input").required(true).args(["mission", "scen"]))]
@@ -90,8 +90,26 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         s.low_level_time.as_secs_f64(),
         s.high_level_time().as_secs_f64()
     );
+    let compiled = compiled::compile(&mission, &solution)
+        .with_context(|| format!("scheduling {} (no plan file written)", input.display()))?;
+    let c = &compiled.check;
+    let ideal_s =
+        f64::from(p.makespan_steps) * mission.world.voxel_size_m() / mission.limits.max_speed_mps;
+    println!(
+        "  schedule        {:.2} s to the last arrival ({:.2} s if every drone cruised at top speed in lockstep)",
+        compiled.makespan_s, ideal_s
+    );
+    println!(
+        "  checked         min separation ≥ {:.3} m (safety {:.3} m), max speed {:.3} m/s (limit {}), max accel {:.3} m/s² (limit {})",
+        c.min_separation_bound_m,
+        mission.limits.safety_distance_m,
+        c.max_speed_mps,
+        mission.limits.max_speed_mps,
+        c.max_accel_mps2,
+        mission.limits.max_accel_mps2
+    );
     if let Some(path) = &args.output {
-        let json = serde_json::to_string_pretty(p)?;
+        let json = serde_json::to_string(&compiled)?;
         std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
         println!("  wrote           {}", path.display());
     }

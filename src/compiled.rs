@@ -1,0 +1,122 @@
+//! A compiled plan: the discrete plan, its schedule and the trajectories to stream.
+//!
+//! This is what `swarmctl plan -o PLAN.json` writes and `swarmctl fly --plan` reads.
+//! Compiling checks the sampled trajectories with the independent separation checker
+//! and refuses a plan that breaks any limit.
+
+use crate::mission::Mission;
+use crate::plan::{DiscretePlan, PlanStats, Solution};
+use crate::schedule::{self, ExecutionPlan, ScheduleError};
+use crate::verify::{self, CheckError, SeparationReport};
+use crate::world::Voxel;
+use serde::{Deserialize, Serialize};
+
+/// The plan file (see ARCHITECTURE.md for the fixed fields).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CompiledPlan {
+    pub mission: String,
+    pub makespan_steps: u32,
+    pub sum_of_costs_steps: u64,
+    /// Collision-free lower bound on the makespan, for comparison.
+    pub lower_bound_steps: u32,
+    /// When the last drone comes to rest at its goal, seconds after the start.
+    pub makespan_s: f64,
+    /// Period of the `trajectory` samples, seconds.
+    pub setpoint_period_s: f64,
+    pub drones: Vec<CompiledDrone>,
+    /// The Temporal Plan Graph's events per drone, with their cross-drone
+    /// predecessors and slack: what a flight executor gates each drone on.
+    pub execution: ExecutionPlan,
+    /// What the independent checker measured on `trajectory`.
+    pub check: SeparationReport,
+}
+
+/// One drone of a compiled plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CompiledDrone {
+    pub id: String,
+    pub group: String,
+    pub goal: Voxel,
+    pub path: Vec<Voxel>,
+    /// `[t_s, x_m, y_m, z_m]` in ENU metres at the setpoint period: exactly what is streamed.
+    pub trajectory: Vec<[f64; 4]>,
+}
+
+/// Why a discrete plan could not be compiled.
+#[derive(Debug, thiserror::Error)]
+pub enum CompileError {
+    #[error(transparent)]
+    Schedule(#[from] ScheduleError),
+    #[error("the trajectory checker could not run: {0}")]
+    Check(#[from] CheckError),
+    #[error("the trajectories break the mission's limits:\n  {}", .0.violations.join("\n  "))]
+    Limits(Box<SeparationReport>),
+}
+
+impl CompiledPlan {
+    /// The discrete plan inside.
+    pub fn discrete(&self) -> DiscretePlan {
+        DiscretePlan {
+            makespan_steps: self.makespan_steps,
+            sum_of_costs_steps: self.sum_of_costs_steps,
+            drones: self
+                .drones
+                .iter()
+                .map(|d| crate::plan::DronePlan {
+                    id: d.id.clone(),
+                    group: d.group.clone(),
+                    goal: d.goal,
+                    path: d.path.clone(),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Schedules `solution`, samples its trajectories at the mission's setpoint rate and
+/// checks them; errors if any limit breaks.
+pub fn compile(mission: &Mission, solution: &Solution) -> Result<CompiledPlan, CompileError> {
+    let plan = &solution.plan;
+    let tpg = schedule::build(mission, plan)?;
+    let schedule = schedule::solve(&tpg)?;
+    let execution = schedule::execution_plan(&tpg, &schedule);
+    let trajectories = crate::trajectory::from_schedule(&schedule);
+    let samples = trajectories.sample(mission.link.setpoint_rate_hz);
+    let check = verify::check(&samples, &mission.limits)?;
+    if !check.ok() {
+        return Err(CompileError::Limits(Box::new(name_drones(check, plan))));
+    }
+    let stats: &PlanStats = &solution.stats;
+    Ok(CompiledPlan {
+        mission: mission.name.clone(),
+        makespan_steps: plan.makespan_steps,
+        sum_of_costs_steps: plan.sum_of_costs_steps,
+        lower_bound_steps: stats.initial_lower_bound_steps,
+        makespan_s: trajectories.makespan_s,
+        setpoint_period_s: 1.0 / mission.link.setpoint_rate_hz,
+        drones: plan
+            .drones
+            .iter()
+            .zip(samples)
+            .map(|(d, trajectory)| CompiledDrone {
+                id: d.id.clone(),
+                group: d.group.clone(),
+                goal: d.goal,
+                path: d.path.clone(),
+                trajectory,
+            })
+            .collect(),
+        execution,
+        check,
+    })
+}
+
+/// The checker knows drones by index (`#3`); users know them by id.
+fn name_drones(mut report: SeparationReport, plan: &DiscretePlan) -> SeparationReport {
+    for violation in &mut report.violations {
+        for (i, d) in plan.drones.iter().enumerate().rev() {
+            *violation = violation.replace(&format!("#{i}"), &format!("{:?}", d.id));
+        }
+    }
+    report
+}
