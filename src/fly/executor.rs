@@ -13,6 +13,15 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tokio::task::JoinHandle;
 
+/// Copter reports takeoff done within some 0.1–0.2 m of the target height and then
+/// holds; from this close we take over with our own setpoint for the last bit.
+const TAKEOFF_NEAR_M: f64 = 0.3;
+
+/// Above this height a vehicle has certainly left the ground.
+const TAKEOFF_STARTED_M: f64 = 0.2;
+/// Takeoff of the whole swarm must finish within this long after arming.
+const TAKEOFF_TIMEOUT_S: f64 = 60.0;
+
 /// Where a drone is in the flight.
 #[derive(Debug)]
 pub enum Phase {
@@ -30,6 +39,8 @@ pub enum Phase {
     Takeoff {
         task: Option<JoinHandle<Result<(), LinkError>>>,
     },
+    /// ArduPilot: takeoff accepted, climbing to the start altitude.
+    AwaitAltitude,
     /// Hovering at the start voxel until everyone is.
     AtStart,
     /// Following the plan.
@@ -49,7 +60,7 @@ impl Phase {
     pub fn name(&self) -> &'static str {
         match self {
             Phase::EnterOffboard { .. } => "offboard",
-            Phase::Climb { .. } | Phase::Takeoff { .. } => "takeoff",
+            Phase::Climb { .. } | Phase::Takeoff { .. } | Phase::AwaitAltitude => "takeoff",
             Phase::AtStart => "at start",
             Phase::Flying => "flying",
             Phase::AtGoal => "at goal",
@@ -150,6 +161,23 @@ pub async fn run(
                 "plan execution timed out: holding, then landing",
             ));
         }
+        if execution_t0.is_none() && !aborting {
+            if let Some(d) = drones.iter().find(|d| matches!(d.phase, Phase::Failed(_))) {
+                aborting = true;
+                let why = format!(
+                    "{} failed before the plan started: holding, then landing",
+                    d.id
+                );
+                out.events.push(event(since_arm_s, None, &why));
+            } else if since_arm_s > TAKEOFF_TIMEOUT_S {
+                aborting = true;
+                out.events.push(event(
+                    since_arm_s,
+                    None,
+                    "takeoff timed out: holding, then landing",
+                ));
+            }
+        }
         read_telemetry(drones, &settings, now, since_arm_s, &mut out.events);
         let t_exec_s = execution_t0.map(|t0| now.duration_since(t0).as_secs_f64());
 
@@ -185,17 +213,16 @@ pub async fn run(
         }
         let all_holding = drones
             .iter()
-            .all(|d| !matches!(d.phase, Phase::Flying) || d.follower.at_rest())
-            && drones
-                .iter()
-                .all(|d| !matches!(d.phase, Phase::EnterOffboard { .. } | Phase::Takeoff { .. }));
+            .all(|d| !matches!(d.phase, Phase::Flying) || d.follower.at_rest());
         if !landing_started && (all_at_goal || (aborting && all_holding)) {
             landing_started = true;
             for d in drones.iter_mut() {
                 if let Some(p) = d.position_m {
                     d.final_distance_to_goal_m = Some(distance(p, d.route.goal_m()));
                 }
-                if !matches!(d.phase, Phase::Failed(_) | Phase::Landed) {
+                let landing_failed =
+                    matches!(&d.phase, Phase::Failed(why) if why.starts_with("landing"));
+                if !landing_failed && !matches!(d.phase, Phase::Landed) {
                     d.phase = Phase::Landing { task: None };
                 }
             }
@@ -400,29 +427,43 @@ fn advance_phase(
                 *task = Some(tokio::spawn(async move { session.takeoff(height_m).await }));
             }
             Some(t) if t.is_finished() => match finished(t) {
-                Err(e) => failed(d, "takeoff refused", e, events),
-                Ok(()) => {
-                    // Copter climbs by itself; stream only once it is up, then
-                    // correct the last centimetres with our setpoint.
-                    if d.position_m.is_some_and(|p| p[2] >= start_m[2] - 0.15) {
-                        d.last_setpoint = Some(hold_start);
-                        if d.position_m
-                            .is_some_and(|p| distance(p, start_m) <= settings.settle_tolerance_m)
-                        {
-                            d.phase = Phase::AtStart;
-                        }
-                    }
+                // A lost ACK makes the retry meet a vehicle already climbing, which
+                // Copter answers FAILED: telemetry decides.
+                Err(_) if d.position_m.is_some_and(|p| p[2] > TAKEOFF_STARTED_M) => {
+                    d.phase = Phase::AwaitAltitude
                 }
+                Err(e) => failed(d, "takeoff refused", e, events),
+                Ok(()) => d.phase = Phase::AwaitAltitude,
             },
             _ => {}
         },
+        Phase::AwaitAltitude => {
+            // Copter climbs by itself; stream only once it is up, then correct the
+            // last centimetres with our setpoint.
+            if d.position_m
+                .is_some_and(|p| p[2] >= start_m[2] - TAKEOFF_NEAR_M)
+            {
+                d.last_setpoint = Some(hold_start);
+                if d.position_m
+                    .is_some_and(|p| distance(p, start_m) <= settings.settle_tolerance_m)
+                {
+                    d.phase = Phase::AtStart;
+                }
+            }
+        }
         Phase::AtStart => d.last_setpoint = Some(hold_start),
         Phase::Landing { task } => match task {
             None => {
                 let session = d.session.clone();
                 let mode = d.flavour.land_mode();
                 *task = Some(tokio::spawn(async move {
-                    session.set_mode(mode).await?;
+                    if let Err(e) = session.set_mode(mode).await {
+                        // Still on the ground (takeoff never happened): disarming is the landing.
+                        if session.state().on_ground() {
+                            return session.disarm(false).await;
+                        }
+                        return Err(e);
+                    }
                     session
                         .confirm("touchdown and disarm", Duration::from_secs(60), |s| {
                             !s.armed
@@ -469,8 +510,7 @@ async fn stream(drones: &[DroneRun]) {
                 | Phase::AtStart
                 | Phase::Flying
                 | Phase::AtGoal
-        ) || (matches!(d.phase, Phase::Takeoff { .. })
-            && d.last_setpoint.is_some());
+        ) || (matches!(d.phase, Phase::AwaitAltitude) && d.last_setpoint.is_some());
         if !streaming {
             continue;
         }
