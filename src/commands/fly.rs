@@ -5,12 +5,13 @@ use anyhow::Context;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use swarmctl::fly::{self, FaultSpec, FlyOptions, StatusMode, VehicleLink};
-use swarmctl::mission::{self, Autopilot, Mission};
+use swarmctl::import;
+use swarmctl::mission::{Autopilot, Mission};
 use swarmctl::plan::{self, DiscretePlan};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Mission file (YAML).
+    /// Mission file (YAML), or an instance `swarmctl plan` imports.
     mission: PathBuf,
     /// Fly this plan (JSON from `swarmctl plan -o`) instead of planning now.
     #[arg(long)]
@@ -38,7 +39,8 @@ fn parse_fault(s: &str) -> Result<FaultSpec, String> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let mission = mission::load(&args.mission)?;
+    // The same inputs `swarmctl plan` accepts: mission YAML or an imported instance.
+    let mission = import::load_any(&args.mission, None)?;
     let plan = match &args.plan {
         Some(path) => load_plan(path)?,
         None => plan_now(&mission, args.deadline)?,
