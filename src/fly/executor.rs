@@ -21,6 +21,9 @@ const TAKEOFF_NEAR_M: f64 = 0.3;
 const TAKEOFF_STARTED_M: f64 = 0.2;
 /// Takeoff of the whole swarm must finish within this long after arming.
 const TAKEOFF_TIMEOUT_S: f64 = 60.0;
+/// Position telemetry older than this (ten periods at 20 Hz) means we cannot see
+/// the drone: its commanded motion pauses long before the heartbeat timeout.
+const TELEMETRY_STALE_S: f64 = 0.5;
 
 /// Where a drone is in the flight.
 #[derive(Debug)]
@@ -86,6 +89,10 @@ pub struct DroneRun {
     pub speed_mps: f64,
     pub link_lost: bool,
     pub link_losses: usize,
+    /// No position telemetry for `TELEMETRY_STALE_S`: the follower pauses.
+    pub telemetry_stale: bool,
+    /// PX4: re-entering OFFBOARD after the vehicle left it (offboard-loss failsafe).
+    pub resume_task: Option<JoinHandle<Result<(), LinkError>>>,
     pub gating_waits: usize,
     pub gating_wait_s: f64,
     pub waiting_for: Option<u32>,
@@ -273,6 +280,18 @@ fn read_telemetry(
             let s = d.session.state();
             (s.position, s.heartbeat_age_s(now))
         };
+        let stale = position.is_none_or(|p| {
+            now.saturating_duration_since(p.received).as_secs_f64() > TELEMETRY_STALE_S
+        });
+        if stale != d.telemetry_stale && matches!(d.phase, Phase::Flying) {
+            let what = if stale {
+                "position telemetry stopped: pausing at the next possible stop"
+            } else {
+                "position telemetry back: resuming"
+            };
+            events.push(event(since_arm_s, Some(&d.id), what));
+        }
+        d.telemetry_stale = stale;
         if let Some(p) = position {
             d.position_m = Some(frames::enu_from_ned_f32(p.position_ned_m));
             let v = p.velocity_ned_mps.map(f64::from);
@@ -305,7 +324,7 @@ fn step_flying(
     aborting: bool,
 ) {
     for d in drones.iter_mut() {
-        if !matches!(d.phase, Phase::Flying | Phase::AtGoal) || d.link_lost {
+        if !matches!(d.phase, Phase::Flying | Phase::AtGoal) || d.link_lost || d.telemetry_stale {
             continue;
         }
         if let Some(p) = d.position_m {
@@ -322,15 +341,19 @@ fn step_flying(
         if aborting {
             d.follower.halt();
         }
+
         let arc = d.follower.arc_m(&d.route, t_s);
         let (gate_arc_m, blocker) = closed_gate(&d.route, &mut d.passed_events, &progress, arc);
         let rest_point = d.follower.setpoint(&d.route, t_s).position_m;
         let settled = d
             .position_m
             .is_some_and(|p| distance(p, rest_point) <= settings.settle_tolerance_m);
+        let paused = d.link_lost || d.telemetry_stale || d.resume_task.is_some();
         let was_gated = d.follower.hold == Hold::Gate;
+        d.follower.set_paused(paused);
         let setpoint = d.follower.step(&d.route, t_s, dt_s, gate_arc_m, settled);
-        if d.follower.hold == Hold::Gate && !aborting {
+        // A paused drone waits for its own link, not for a TPG predecessor.
+        if d.follower.hold == Hold::Gate && !aborting && !paused {
             if !was_gated {
                 d.gating_waits += 1;
             }
@@ -452,6 +475,7 @@ fn advance_phase(
             }
         }
         Phase::AtStart => d.last_setpoint = Some(hold_start),
+        Phase::Flying | Phase::AtGoal => resume_external_control(d, since_arm_s, events),
         Phase::Landing { task } => match task {
             None => {
                 let session = d.session.clone();
@@ -477,7 +501,41 @@ fn advance_phase(
             },
             _ => {}
         },
-        Phase::Flying | Phase::AtGoal | Phase::Landed | Phase::Failed(_) => {}
+        Phase::Landed | Phase::Failed(_) => {}
+    }
+}
+
+/// PX4 leaves OFFBOARD when our stream stops for a second (a cut link) and holds,
+/// then lands by itself; once telemetry is back, ask for OFFBOARD again. The
+/// follower stays paused until the vehicle is back, then resumes from rest.
+/// ArduPilot stays in GUIDED on a lost stream, so it needs nothing here.
+fn resume_external_control(d: &mut DroneRun, since_arm_s: f64, events: &mut Vec<LogEvent>) {
+    if d.flavour != Flavour::Px4 {
+        return;
+    }
+    let mode = d.flavour.external_control_mode();
+    match &mut d.resume_task {
+        None => {
+            let out_of_mode = d.session.state().custom_mode != mode.custom_mode;
+            if out_of_mode && !d.link_lost && !d.telemetry_stale {
+                events.push(event(
+                    since_arm_s,
+                    Some(&d.id),
+                    "vehicle left OFFBOARD (offboard-loss failsafe): re-entering it",
+                ));
+                let session = d.session.clone();
+                d.resume_task = Some(tokio::spawn(async move { session.set_mode(mode).await }));
+            }
+        }
+        Some(t) if t.is_finished() => {
+            let message = match finished(t) {
+                Ok(()) => "back in OFFBOARD: resuming".to_string(),
+                Err(e) => format!("OFFBOARD re-entry failed (will retry): {e}"),
+            };
+            events.push(event(since_arm_s, Some(&d.id), &message));
+            d.resume_task = None;
+        }
+        Some(_) => {}
     }
 }
 

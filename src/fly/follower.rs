@@ -63,6 +63,9 @@ pub struct Follower {
     validated_until_s: f64,
     /// Stop as soon as possible and stay (Ctrl-C, mission timeout).
     halted: bool,
+    /// Stop as soon as possible until unpaused (telemetry or link lost: the
+    /// commanded target must not run away from a vehicle we cannot see).
+    paused: bool,
     pub hold: Hold,
 }
 
@@ -75,6 +78,7 @@ impl Follower {
             motion: Motion::Rest { x_m: 0.0 },
             validated_until_s: 0.0,
             halted: false,
+            paused: false,
             hold: Hold::Schedule,
         }
     }
@@ -100,6 +104,12 @@ impl Follower {
     /// Brake to a stop and stay there (used for Ctrl-C and timeouts).
     pub fn halt(&mut self) {
         self.halted = true;
+    }
+
+    /// Brake to a stop and wait while `paused`; resume (from rest, once the
+    /// telemetry has settled at the rest point) when it clears.
+    pub fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
     }
 
     /// True when the commanded motion is at rest.
@@ -156,7 +166,7 @@ impl Follower {
                         self.motion = Motion::Rest { x_m: 0.0 };
                         continue;
                     }
-                    self.hold = if self.halted {
+                    self.hold = if self.halted || self.paused {
                         Hold::Gate
                     } else if x_m <= 0.0 && t_s < run.scheduled_start_s {
                         Hold::Schedule
@@ -192,7 +202,7 @@ impl Follower {
                     }
                     let (x_next, v_next) = self.state_at(t_s + dt_s);
                     let stop_next_m = x_next + v_next * v_next / (2.0 * a);
-                    if self.halted || stop_next_m > limit_x_m {
+                    if self.halted || self.paused || stop_next_m > limit_x_m {
                         // Braking from any earlier state stops no later (the stop point
                         // only grows along a profile), so the last validated time is safe.
                         let t_brake = t_s.min(self.validated_until_s);

@@ -23,11 +23,17 @@ pub struct Summary {
     /// How long plan execution took (all drones at their start to all at their goal).
     pub executed_makespan_s: Option<f64>,
     /// Smallest distance between two drones during plan execution, from telemetry.
+    /// Omitted from the JSON (∞ in Rust) when no two drones were airborne then:
+    /// JSON has no infinity, and `null` would not read back as a number.
+    #[serde(default = "infinity", skip_serializing_if = "not_finite")]
     pub min_separation_m: f64,
     /// The two drones that came closest, and when (seconds into plan execution).
     pub closest_pair: Option<(String, String, f64)>,
     /// Smallest distance between two airborne drones during takeoff and landing,
-    /// which the plan does not cover (drones climb and descend vertically).
+    /// which the plan does not cover (drones climb and descend vertically, so
+    /// drones whose start or goal voxels share a column come close here). Omitted
+    /// like `min_separation_m` when no two drones were airborne together.
+    #[serde(default = "infinity", skip_serializing_if = "not_finite")]
     pub min_separation_takeoff_landing_m: f64,
     pub safety_distance_m: f64,
     /// Highest speed reported by any drone's telemetry.
@@ -65,6 +71,23 @@ pub struct LogEvent {
     pub message: String,
 }
 
+fn infinity() -> f64 {
+    f64::INFINITY
+}
+
+fn not_finite(value: &f64) -> bool {
+    !value.is_finite()
+}
+
+/// A separation for people: metres, or why there is none.
+fn separation_text(separation_m: f64) -> String {
+    if separation_m.is_finite() {
+        format!("{separation_m:.3} m")
+    } else {
+        "none measured (never two drones airborne)".to_string()
+    }
+}
+
 impl Summary {
     /// The lines `swarmctl fly` prints.
     pub fn lines(&self) -> Vec<String> {
@@ -84,12 +107,16 @@ impl Summary {
                 self.planned_makespan_s
             ),
             format!(
-                "  min separation       {:.3} m (safety distance {:.3} m){}",
-                self.min_separation_m,
+                "  min separation       {} during plan execution (safety distance {:.3} m){}",
+                separation_text(self.min_separation_m),
                 self.safety_distance_m,
                 self.closest_pair
                     .as_ref()
                     .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
+            ),
+            format!(
+                "  takeoff/landing      {} closest, vertical climbs and descents outside the plan",
+                separation_text(self.min_separation_takeoff_landing_m)
             ),
             format!(
                 "  max speed            {:.2} m/s (limit {:.2} m/s)",
@@ -104,5 +131,38 @@ impl Summary {
                 self.max_final_distance_to_goal_m
             ),
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary(min_separation_m: f64) -> Summary {
+        Summary {
+            completed: false,
+            duration_s: 1.0,
+            planned_makespan_s: 1.0,
+            executed_makespan_s: None,
+            min_separation_m,
+            closest_pair: None,
+            min_separation_takeoff_landing_m: f64::INFINITY,
+            safety_distance_m: 0.25,
+            max_speed_mps: 0.0,
+            speed_limit_mps: 1.0,
+            gating_waits: 0,
+            gating_wait_s: 0.0,
+            max_final_distance_to_goal_m: 0.0,
+        }
+    }
+
+    #[test]
+    fn unmeasured_separation_is_omitted_not_null_and_reads_back() {
+        let json = serde_json::to_string(&summary(f64::INFINITY)).expect("serialises");
+        assert!(!json.contains("min_separation"), "{json}");
+        let back: Summary = serde_json::from_str(&json).expect("reads back");
+        assert!(back.min_separation_m.is_infinite());
+        let json = serde_json::to_string(&summary(0.5)).expect("serialises");
+        assert!(json.contains("\"min_separation_m\":0.5"), "{json}");
     }
 }

@@ -152,6 +152,8 @@ pub async fn fly(
             speed_mps: 0.0,
             link_lost: false,
             link_losses: 0,
+            telemetry_stale: false,
+            resume_task: None,
             gating_waits: 0,
             gating_wait_s: 0.0,
             waiting_for: None,

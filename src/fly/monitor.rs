@@ -34,6 +34,9 @@ pub struct Monitor {
     plain: bool,
     last_print: Option<Instant>,
     plain_period: Duration,
+    /// The newest line, and whether it has been shown; `finish` shows it, so the
+    /// view ends on the final state ("N landed") rather than a stale one.
+    last_line: Option<(String, bool)>,
 }
 
 impl Monitor {
@@ -52,6 +55,7 @@ impl Monitor {
             bar,
             last_print: None,
             plain_period: Duration::from_secs(3),
+            last_line: None,
         }
     }
 
@@ -102,24 +106,31 @@ impl Monitor {
         min_separation_m: f64,
         drones: Vec<DroneStatus>,
     ) {
+        let line = Self::line(since_arm_s, t_exec_s, min_separation_m, &drones);
         if let Some(bar) = &self.bar {
-            bar.set_message(Self::line(since_arm_s, t_exec_s, min_separation_m, &drones));
+            bar.set_message(line.clone());
         } else if self.plain
             && self
                 .last_print
                 .is_none_or(|t| t.elapsed() >= self.plain_period)
         {
             self.last_print = Some(Instant::now());
-            eprintln!(
-                "{}",
-                Self::line(since_arm_s, t_exec_s, min_separation_m, &drones)
-            );
+            eprintln!("{line}");
+            self.last_line = Some((line, true));
+            return;
         }
+        self.last_line = Some((line, false));
     }
 
+    /// Ends the view on the final state.
     pub fn finish(&mut self) {
+        let last = self.last_line.take();
         if let Some(bar) = self.bar.take() {
-            bar.finish_and_clear();
+            bar.finish_with_message(last.map(|(line, _)| line).unwrap_or_default());
+        } else if self.plain
+            && let Some((line, false)) = last
+        {
+            eprintln!("{line}");
         }
     }
 }
