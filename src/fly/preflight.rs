@@ -64,7 +64,8 @@ async fn check_one(
     let horizontal_m = ((position[0] - start_ground_enu_m[0]).powi(2)
         + (position[1] - start_ground_enu_m[1]).powi(2))
     .sqrt();
-    if !(horizontal_m <= limits.start_tolerance_m) {
+    // No position yet makes the distance NaN, which must fail too.
+    if horizontal_m.is_nan() || horizontal_m > limits.start_tolerance_m {
         return Err(format!(
             "{id}: at ENU ({:.2}, {:.2}, {:.2}) m, {horizontal_m:.2} m from below its start voxel \
              ({:.2}, {:.2}); tolerance {:.2} m",
