@@ -43,11 +43,11 @@ pub fn parse_3dmap(text: &str, file: &Path) -> Result<([i64; 3], Vec<[i64; 3]>),
     Ok((dims, blocked))
 }
 
-/// Parses a `.3dscen`: the map's file name and `(start, goal)` voxel pairs.
-pub fn parse_3dscen(
-    text: &str,
-    file: &Path,
-) -> Result<(String, Vec<([i64; 3], [i64; 3])>), ImportError> {
+/// A `.3dscen`'s map file name and its `(start, goal)` voxel pairs.
+pub type Scenario3d = (String, Vec<([i64; 3], [i64; 3])>);
+
+/// Parses a `.3dscen`.
+pub fn parse_3dscen(text: &str, file: &Path) -> Result<Scenario3d, ImportError> {
     let mut lines = text
         .lines()
         .enumerate()
