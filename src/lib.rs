@@ -12,6 +12,7 @@ pub mod import;
 pub mod link;
 pub mod mission;
 pub mod plan;
+pub mod record;
 pub mod schedule;
 pub mod trajectory;
 pub mod verify;

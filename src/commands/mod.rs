@@ -5,5 +5,6 @@ pub mod check;
 pub mod fly;
 pub mod generate;
 pub mod plan;
+pub mod replay;
 pub mod sitl;
 pub mod template;

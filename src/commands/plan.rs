@@ -26,6 +26,8 @@ pub struct Args {
     /// Seed for tie-breaking; the same seed gives the same plan.
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    #[command(flatten)]
+    viewer: swarmctl::record::ViewerArgs,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -112,6 +114,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let json = serde_json::to_string(&compiled)?;
         std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
         println!("  wrote           {}", path.display());
+    }
+    if let Some(sink) = args.viewer.sink() {
+        swarmctl::record::record_plan(&mission, &compiled, &sink).context("recording the plan")?;
+        println!("  recording       {}", super::replay::describe(&sink));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -1,0 +1,119 @@
+//! Cost of recording a flight: 100 drones reporting at 20 Hz, paced in real time,
+//! fed to the flight `Recorder` writing an `.rrd` file.
+//!
+//! Reports the recorder thread's CPU time and the CPU of everything recording
+//! adds to the process (recorder thread + rerun's batcher and file writer: the
+//! process total minus the feeding thread), both as a share of one core over the
+//! flight's wall time. Run with `cargo bench --bench viz_recorder`;
+//! `VIZ_BENCH_SECONDS` (default 30) sets the flight length.
+
+use std::time::{Duration, Instant};
+use swarmctl_viz::{Drone, FlightSample, Group, Recorder, RecorderOptions, Scene, Sink};
+
+const DRONES: usize = 100;
+const RATE_HZ: f64 = 20.0;
+
+fn cpu_s(who: libc::c_int) -> f64 {
+    // SAFETY: getrusage writes only into the zeroed struct we pass.
+    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: valid `who` and pointer.
+    unsafe { libc::getrusage(who, &mut u) };
+    let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    s(u.ru_utime) + s(u.ru_stime)
+}
+
+fn scene() -> Scene {
+    Scene {
+        name: "bench-100".into(),
+        voxel_size_m: 1.0,
+        safety_distance_m: 0.25,
+        groups: (0..5)
+            .map(|i| Group {
+                name: format!("g{i}"),
+                color_rgb: Group::palette(i),
+            })
+            .collect(),
+        drones: (0..DRONES)
+            .map(|i| Drone {
+                id: format!("d{i:03}"),
+                group: i % 5,
+                ..Drone::default()
+            })
+            .collect(),
+        ..Scene::default()
+    }
+}
+
+/// Drone `i` circles its own centre on a 10 x 10 grid.
+fn position(i: usize, t_s: f64) -> [f64; 3] {
+    let (cx, cy) = ((i % 10) as f64 * 2.0, (i / 10) as f64 * 2.0);
+    let phase = t_s * 0.5 + i as f64;
+    [
+        cx + 0.5 * phase.cos(),
+        cy + 0.5 * phase.sin(),
+        2.0 + 0.1 * phase.sin(),
+    ]
+}
+
+fn main() {
+    let seconds: f64 = std::env::var("VIZ_BENCH_SECONDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(30.0);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("bench.rrd");
+    let process_before = cpu_s(libc::RUSAGE_SELF);
+    let feeder_before = cpu_s(libc::RUSAGE_THREAD);
+    let recorder = Recorder::start(
+        &Sink::File(path.clone()),
+        &scene(),
+        &[],
+        RecorderOptions::default(),
+    )
+    .expect("start recorder");
+    let handle = recorder.handle();
+    let started = Instant::now();
+    let ticks = (seconds * RATE_HZ).round() as u64;
+    let mut dropped = 0u64;
+    for k in 0..ticks {
+        let t_s = k as f64 / RATE_HZ;
+        for i in 0..DRONES {
+            let sample = FlightSample {
+                drone: i,
+                t_s,
+                position_m: position(i, t_s),
+            };
+            if !handle.try_sample(sample) {
+                dropped += 1;
+            }
+        }
+        let next = started + Duration::from_secs_f64((k + 1) as f64 / RATE_HZ);
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
+    }
+    let flight_wall_s = started.elapsed().as_secs_f64();
+    drop(handle);
+    let stats = recorder.finish().expect("finish recorder");
+    let total_wall_s = started.elapsed().as_secs_f64();
+    let feeder_s = cpu_s(libc::RUSAGE_THREAD) - feeder_before;
+    let recording_cpu_s = cpu_s(libc::RUSAGE_SELF) - process_before - feeder_s;
+    let size_mb = std::fs::metadata(&path).map_or(0.0, |m| m.len() as f64 / 1e6);
+    println!(
+        "viz_recorder: {DRONES} drones x {RATE_HZ} Hz for {flight_wall_s:.1} s (finish took {:.2} s)",
+        total_wall_s - flight_wall_s
+    );
+    println!(
+        "  samples logged       {} (dropped {}, {} at the sender)",
+        stats.samples_logged, stats.samples_dropped, dropped
+    );
+    println!(
+        "  recorder thread CPU  {:.3} s = {:.2}% of one core",
+        stats.thread_cpu_s,
+        100.0 * stats.thread_cpu_s / flight_wall_s
+    );
+    println!(
+        "  all recording CPU    {recording_cpu_s:.3} s = {:.2}% of one core (recorder + rerun threads)",
+        100.0 * recording_cpu_s / flight_wall_s
+    );
+    println!("  feeder thread CPU    {feeder_s:.3} s");
+    println!("  recording size       {size_mb:.1} MB");
+}

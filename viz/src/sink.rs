@@ -1,0 +1,51 @@
+//! Where a recording goes: a file, a freshly spawned viewer, or a running one.
+
+use crate::VizError;
+use std::path::PathBuf;
+
+/// The destination of a recording.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Sink {
+    /// An `.rrd` file, opened later with `rerun FILE.rrd`.
+    File(PathBuf),
+    /// Start a `rerun` viewer from `PATH` (or reuse one on the default port).
+    Spawn,
+    /// Stream to a running viewer, e.g. `rerun+http://127.0.0.1:9876/proxy`.
+    /// A bare `HOST:PORT` is completed to that form.
+    Connect(String),
+}
+
+impl Sink {
+    /// The gRPC URL for [`Sink::Connect`], accepting `HOST:PORT` for convenience.
+    fn url(addr: &str) -> String {
+        if addr.contains("://") {
+            addr.to_string()
+        } else {
+            format!("rerun+http://{addr}/proxy")
+        }
+    }
+}
+
+/// Opens a recording with the swarmctl blueprint (3D view beside the time
+/// series), showing `timeline` first.
+pub(crate) fn open(
+    name: &str,
+    sink: &Sink,
+    timeline: &str,
+) -> Result<rerun::RecordingStream, VizError> {
+    let builder = rerun::RecordingStreamBuilder::new("swarmctl")
+        .recording_name(name)
+        .with_blueprint(crate::blueprint::layout(timeline));
+    let (what, result) = match sink {
+        Sink::File(path) => (format!("file {}", path.display()), builder.save(path)),
+        Sink::Spawn => ("spawned viewer".to_string(), builder.spawn()),
+        Sink::Connect(addr) => {
+            let url = Sink::url(addr);
+            (
+                format!("viewer at {url}"),
+                builder.connect_grpc_opts(url.clone()),
+            )
+        }
+    };
+    result.map_err(|source| VizError::Open { what, source })
+}
