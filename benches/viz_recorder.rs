@@ -5,7 +5,8 @@
 //! adds to the process (recorder thread + rerun's batcher and file writer: the
 //! process total minus the feeding thread), both as a share of one core over the
 //! flight's wall time. Run with `cargo bench --bench viz_recorder`;
-//! `VIZ_BENCH_SECONDS` (default 30) sets the flight length.
+//! `VIZ_BENCH_SECONDS` (default 30) sets the flight length, `VIZ_BENCH_FLUSH_S`
+//! the recorder's flush period.
 
 use std::time::{Duration, Instant};
 use swarmctl_viz::{Drone, FlightSample, Group, Recorder, RecorderOptions, Scene, Sink};
@@ -64,13 +65,16 @@ fn main() {
     let path = dir.path().join("bench.rrd");
     let process_before = cpu_s(libc::RUSAGE_SELF);
     let feeder_before = cpu_s(libc::RUSAGE_THREAD);
-    let recorder = Recorder::start(
-        &Sink::File(path.clone()),
-        &scene(),
-        &[],
-        RecorderOptions::default(),
-    )
-    .expect("start recorder");
+    let mut options = RecorderOptions::default();
+    if let Some(flush_s) = std::env::var("VIZ_BENCH_FLUSH_S")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        options.flush_period_s = flush_s;
+    }
+    println!("  flush period         {} s", options.flush_period_s);
+    let recorder =
+        Recorder::start(&Sink::File(path.clone()), &scene(), &[], options).expect("start recorder");
     let handle = recorder.handle();
     let started = Instant::now();
     let ticks = (seconds * RATE_HZ).round() as u64;

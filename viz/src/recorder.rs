@@ -31,7 +31,9 @@ pub struct FlightSample {
 pub struct RecorderOptions {
     /// Channel capacity in messages; beyond it samples are dropped.
     pub capacity: usize,
-    /// How often buffered samples are sent to the stream, wall-clock seconds.
+    /// How often buffered samples are sent to the stream, wall-clock seconds. Each
+    /// flush makes one chunk per drone and entity; chunks carry fixed overhead, so
+    /// at 100 drones x 20 Hz 0.25 s cost ~15% of a core in rerun's threads, 2 s ~4%.
     pub flush_period_s: f64,
     /// How often the swarm's minimum separation is evaluated, flight seconds.
     pub separation_period_s: f64,
@@ -43,7 +45,7 @@ impl Default for RecorderOptions {
     fn default() -> Self {
         Self {
             capacity: 8192,
-            flush_period_s: 0.25,
+            flush_period_s: 2.0,
             separation_period_s: 0.1,
             path_step_m: 0.02,
         }
