@@ -32,6 +32,9 @@ pub struct Args {
     /// Print a plain status line every few seconds instead of a spinner.
     #[arg(long)]
     plain: bool,
+    /// Where the Rerun recording goes (default: beside the flight log).
+    #[command(flatten)]
+    viewer: swarmctl::record::ViewerArgs,
 }
 
 fn parse_fault(s: &str) -> Result<FaultSpec, String> {
@@ -72,6 +75,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     println!("  log                  {}", path.display());
+    let sink = args.viewer.sink_or_beside(&path);
+    match swarmctl::record::record_flown(&mission, &plan, &log, &sink) {
+        Ok(_) => println!("  recording            {}", super::replay::describe(&sink)),
+        Err(e) => eprintln!("warning: no Rerun recording: {e:#}"),
+    }
     let ok = log.summary.completed && log.summary.min_separation_m >= log.summary.safety_distance_m;
     Ok(if ok {
         ExitCode::SUCCESS
