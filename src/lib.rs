@@ -4,9 +4,9 @@
 //! `trajectory` → `fly`. Each stage is a pure function of the one before, except
 //! `fly`, the only stage that talks to vehicles.
 
-pub mod fly;
 pub mod bench;
 pub mod compiled;
+pub mod fly;
 pub mod generate;
 pub mod import;
 pub mod link;
