@@ -4,6 +4,7 @@
 use proptest::prelude::*;
 use std::collections::{HashMap, VecDeque};
 use std::time::Duration;
+use swarmctl::generate::GenerateOptions;
 use swarmctl::mission::{self, Mission};
 use swarmctl::plan::{self, PlanError, PlanOptions};
 use swarmctl::world::Voxel;
@@ -17,6 +18,12 @@ fn example(name: &str) -> Mission {
         .join("missions")
         .join(name);
     mission::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A random mission, validated.
+fn generated(options: GenerateOptions) -> Mission {
+    let file = swarmctl::generate::generate(&options).expect("generated");
+    mission::validate(&file).expect("valid")
 }
 
 /// Plans and validates; returns the makespan.
@@ -176,16 +183,14 @@ groups:
 
 #[test]
 fn single_anonymous_group_is_one_flow_without_a_conflict_tree() {
-    let file = swarmctl::generate::generate(&swarmctl::generate::GenerateOptions {
+    let m = generated(GenerateOptions {
         dimensions: [12, 12, 3],
         obstacles: 40,
         drones: 120,
         groups: 1,
         seed: 3,
         voxel_size_m: 1.0,
-    })
-    .expect("generated");
-    let m = mission::validate(&file).expect("valid");
+    });
     let solution = plan::solve(&m, &PlanOptions::default()).expect("solved");
     assert!(plan::validate_plan(&m, &solution.plan).is_ok());
     assert_eq!(solution.stats.ct_nodes_expanded, 1);
@@ -200,12 +205,10 @@ fn single_anonymous_group_is_one_flow_without_a_conflict_tree() {
 #[test]
 fn paper_scale_missions_plan_and_validate() {
     for seed in 1..=5 {
-        let file = swarmctl::generate::generate(&swarmctl::generate::GenerateOptions {
+        let m = generated(GenerateOptions {
             seed,
             ..Default::default()
-        })
-        .expect("generated");
-        let m = mission::validate(&file).expect("valid");
+        });
         planned_makespan(&m, 0);
     }
 }
@@ -229,16 +232,14 @@ fn same_seed_same_plan() {
 
 #[test]
 fn deadline_reports_the_best_lower_bound() {
-    let file = swarmctl::generate::generate(&swarmctl::generate::GenerateOptions {
+    let m = generated(GenerateOptions {
         dimensions: [16, 16, 4],
         obstacles: 100,
         drones: 150,
         groups: 10,
         seed: 1,
         voxel_size_m: 1.0,
-    })
-    .expect("generated");
-    let m = mission::validate(&file).expect("valid");
+    });
     let options = PlanOptions {
         deadline: Duration::from_nanos(1),
         ..PlanOptions::default()
