@@ -6,6 +6,7 @@ use super::follower::{Follower, Hold, Setpoint};
 use super::gate::{Progress, closed_gate};
 use super::log::LogEvent;
 use super::monitor::{DroneStatus, Monitor};
+use super::observer::FlightObserver;
 use super::path::Route;
 use crate::link::{Flavour, LinkError, Session, frames};
 use crate::trajectory::Profile;
@@ -133,6 +134,7 @@ pub async fn run(
     armed_at: Instant,
     mut abort: tokio::sync::watch::Receiver<bool>,
     monitor: &mut Monitor,
+    observer: Option<&dyn FlightObserver>,
 ) -> Outcome {
     let dt_s = 1.0 / settings.setpoint_rate_hz;
     let mut tick = tokio::time::interval(Duration::from_secs_f64(dt_s));
@@ -145,6 +147,7 @@ pub async fn run(
     let mut execution_t0: Option<Instant> = None;
     let mut aborting = false;
     let mut landing_started = false;
+    let mut tap = Tap::new(drones.len());
     loop {
         tick.tick().await;
         let now = Instant::now();
@@ -234,6 +237,9 @@ pub async fn run(
                 }
             }
         }
+        if let Some(observer) = observer {
+            tap.forward(observer, drones, armed_at, &out.events);
+        }
         monitor.update(
             since_arm_s,
             t_exec_s,
@@ -253,6 +259,47 @@ pub async fn run(
         out.min_separation_m = f64::INFINITY;
     }
     out
+}
+
+/// What the observer has been given so far: the newest sample per drone and the
+/// number of events.
+struct Tap {
+    last_sample: Vec<Option<Instant>>,
+    events_sent: usize,
+}
+
+impl Tap {
+    fn new(drones: usize) -> Self {
+        Self {
+            last_sample: vec![None; drones],
+            events_sent: 0,
+        }
+    }
+
+    /// Hands over each drone's newest telemetry (once) and the events since last time.
+    fn forward(
+        &mut self,
+        observer: &dyn FlightObserver,
+        drones: &[DroneRun],
+        armed_at: Instant,
+        events: &[LogEvent],
+    ) {
+        for (i, d) in drones.iter().enumerate() {
+            let Some(p) = d.session.state().position else {
+                continue;
+            };
+            if self.last_sample[i] == Some(p.received) {
+                continue;
+            }
+            self.last_sample[i] = Some(p.received);
+            let t_s = p.received.saturating_duration_since(armed_at).as_secs_f64();
+            observer.sample(i, t_s, frames::enu_from_ned_f32(p.position_ned_m));
+        }
+        for e in &events[self.events_sent.min(events.len())..] {
+            observer.event(e);
+        }
+        self.events_sent = events.len();
+    }
 }
 
 fn event(t_s: f64, drone: Option<&str>, message: &str) -> LogEvent {

@@ -18,6 +18,7 @@ pub mod follower;
 pub mod gate;
 pub mod log;
 pub mod monitor;
+pub mod observer;
 pub mod path;
 pub mod preflight;
 pub mod sitl;
@@ -26,6 +27,7 @@ pub use error::FlyError;
 pub use faults::{FaultSpec, parse_fault};
 pub use log::{DroneLog, FlightLog, Summary};
 pub use monitor::StatusMode;
+pub use observer::FlightObserver;
 
 use crate::link::{CommandPolicy, Flavour, Session, frames};
 use crate::mission::Mission;
@@ -47,7 +49,7 @@ pub struct VehicleLink {
 }
 
 /// Everything `fly` needs besides the mission and plan.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct FlyOptions {
     /// One per drone, in plan order.
     pub vehicles: Vec<VehicleLink>,
@@ -60,6 +62,23 @@ pub struct FlyOptions {
     pub timeout_factor: f64,
     pub status: StatusMode,
     pub command_policy: CommandPolicy,
+    /// Sees every telemetry sample and event live (a Rerun recorder, say).
+    pub observer: Option<Arc<dyn FlightObserver>>,
+}
+
+impl std::fmt::Debug for FlyOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FlyOptions")
+            .field("vehicles", &self.vehicles)
+            .field("heartbeat_timeout", &self.heartbeat_timeout)
+            .field("start_tolerance_m", &self.start_tolerance_m)
+            .field("settle_tolerance_m", &self.settle_tolerance_m)
+            .field("timeout_factor", &self.timeout_factor)
+            .field("status", &self.status)
+            .field("command_policy", &self.command_policy)
+            .field("observer", &self.observer.as_ref().map(|_| "set"))
+            .finish()
+    }
 }
 
 impl FlyOptions {
@@ -72,6 +91,7 @@ impl FlyOptions {
             timeout_factor: 4.0,
             status: StatusMode::Auto,
             command_policy: CommandPolicy::default(),
+            observer: None,
         }
     }
 }
@@ -170,7 +190,15 @@ pub async fn fly(
         execution_timeout_s: options.timeout_factor * execution.makespan_s + 30.0,
     };
     let mut monitor = monitor::Monitor::new(options.status);
-    let outcome = executor::run(&mut drones, settings, armed_at, abort, &mut monitor).await;
+    let outcome = executor::run(
+        &mut drones,
+        settings,
+        armed_at,
+        abort,
+        &mut monitor,
+        options.observer.as_deref(),
+    )
+    .await;
     let duration_s = armed_at.elapsed().as_secs_f64();
 
     let drone_logs: Vec<DroneLog> = drones
