@@ -9,6 +9,7 @@ pub mod error;
 pub mod flavour;
 pub mod frames;
 pub mod messages;
+pub mod receive;
 pub mod session;
 pub mod telemetry;
 

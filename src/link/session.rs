@@ -10,13 +10,11 @@
 use super::error::LinkError;
 use super::flavour::{Flavour, ModeRequest};
 use super::messages::{
-    AUTOPILOT_COMPONENT_ID, GCS_COMPONENT_ID, GCS_SYSTEM_ID, command_long, gcs_heartbeat,
-    position_velocity_target,
+    GCS_COMPONENT_ID, GCS_SYSTEM_ID, command_long, gcs_heartbeat, position_velocity_target,
 };
-use super::telemetry::{PositionSample, VehicleState};
-use mavlink::dialects::common::{
-    COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavResult, MavSysStatusSensor,
-};
+use super::receive;
+use super::telemetry::VehicleState;
+use mavlink::dialects::common::{COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavResult};
 use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -312,7 +310,9 @@ async fn heartbeat_loop(connection: Arc<AsyncConnection<MavMessage>>) {
     }
 }
 
-/// Reads forever, folding messages from `system_id` into `state`.
+/// Reads forever, folding every decoded message into `state` with
+/// [`receive::fold`] (which drops anything not from `system_id`) and passing the
+/// COMMAND_ACKs meant for us to whoever waits on a command.
 async fn read_loop(
     connection: Arc<AsyncConnection<MavMessage>>,
     system_id: u8,
@@ -323,54 +323,19 @@ async fn read_loop(
         let (header, message) = match connection.recv().await {
             Ok(m) => m,
             Err(_) => {
-                // ICMP "port unreachable" and the like: the vehicle may come back.
+                // ICMP "port unreachable", a frame that does not parse and the like:
+                // the vehicle may come back, and the next frame may be fine.
                 tokio::time::sleep(Duration::from_millis(20)).await;
                 continue;
             }
         };
-        if header.system_id != u32::from(system_id) {
-            continue;
-        }
-        let now = Instant::now();
-        let mut s = state.lock().unwrap_or_else(|e| e.into_inner());
-        match message {
-            MavMessage::HEARTBEAT(h) if header.component_id == AUTOPILOT_COMPONENT_ID => {
-                s.last_heartbeat = Some(now);
-                s.flavour = Flavour::from_autopilot(h.autopilot);
-                s.autopilot_name = Some(format!("{:?}", h.autopilot));
-                s.armed = h
-                    .base_mode
-                    .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
-                s.custom_mode = h.custom_mode;
-            }
-            MavMessage::LOCAL_POSITION_NED(p) => {
-                let sample = PositionSample {
-                    received: now,
-                    position_ned_m: [p.x, p.y, p.z],
-                    velocity_ned_mps: [p.vx, p.vy, p.vz],
-                };
-                s.position = Some(sample);
-                if s.recording {
-                    s.track.push(sample);
-                }
-            }
-            MavMessage::EXTENDED_SYS_STATE(e) => s.landed_state = Some(e.landed_state),
-            MavMessage::SYS_STATUS(st) => {
-                let check = MavSysStatusSensor::MAV_SYS_STATUS_PREARM_CHECK;
-                s.prearm_ok = Some(
-                    !st.onboard_control_sensors_present.contains(check)
-                        || st.onboard_control_sensors_health.contains(check),
-                );
-            }
-            MavMessage::STATUSTEXT(t) => {
-                s.last_status_text = t.text.to_str().ok().map(str::to_string);
-            }
-            MavMessage::COMMAND_ACK(a) => {
-                drop(s);
-                // No subscriber just means nobody is waiting for an answer.
-                let _ = acks.send(a);
-            }
-            _ => {}
+        let ack = {
+            let mut s = state.lock().unwrap_or_else(|e| e.into_inner());
+            receive::fold(&mut s, &header, message, system_id, Instant::now())
+        };
+        if let Some(ack) = ack {
+            // No subscriber just means nobody is waiting for an answer.
+            let _ = acks.send(ack);
         }
     }
 }

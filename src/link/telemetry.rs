@@ -13,18 +13,30 @@ pub struct PositionSample {
 }
 
 /// What the reader task has learned so far. Everything is optional until heard.
-#[derive(Debug, Clone, Default)]
+///
+/// Only messages from the vehicle's own system id change it; see
+/// [`super::receive::fold`] for the rules.
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct VehicleState {
+    /// The last HEARTBEAT from the vehicle's autopilot component.
     pub last_heartbeat: Option<Instant>,
+    /// The last message of any kind from the vehicle's system id: the link is alive.
+    pub last_message: Option<Instant>,
     pub flavour: Option<Flavour>,
     /// HEARTBEAT autopilot field as text, for error messages about unknown autopilots.
     pub autopilot_name: Option<String>,
     pub armed: bool,
     pub custom_mode: u32,
     pub position: Option<PositionSample>,
+    /// `time_boot_ms` of the newest accepted LOCAL_POSITION_NED (older samples are
+    /// late or replayed packets and are ignored).
+    pub position_time_boot_ms: Option<u32>,
     pub landed_state: Option<MavLandedState>,
     /// SYS_STATUS says pre-arm checks pass (`None` until a SYS_STATUS arrives).
     pub prearm_ok: Option<bool>,
+    /// SYS_STATUS battery_remaining in percent (`None` until heard, or when the
+    /// autopilot reports -1, "unknown").
+    pub battery_remaining_pct: Option<i8>,
     /// The latest STATUSTEXT: autopilots explain refusals there.
     pub last_status_text: Option<String>,
     /// Every position sample received, for the flight log (when recording is on).
@@ -36,6 +48,13 @@ impl VehicleState {
     /// Seconds since the last heartbeat, or `None` if none was ever heard.
     pub fn heartbeat_age_s(&self, now: Instant) -> Option<f64> {
         self.last_heartbeat
+            .map(|t| now.saturating_duration_since(t).as_secs_f64())
+    }
+
+    /// Seconds since the last message of any kind from the vehicle, or `None` if
+    /// none was ever heard.
+    pub fn message_age_s(&self, now: Instant) -> Option<f64> {
+        self.last_message
             .map(|t| now.saturating_duration_since(t).as_secs_f64())
     }
 
