@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use swarmctl::fly::{self, FaultSpec, FlyOptions, StatusMode, VehicleLink};
 use swarmctl::import;
-use swarmctl::mission::{Autopilot, Mission};
+use swarmctl::link::SigningKey;
+use swarmctl::mission::{Autopilot, KeySource, Mission};
 use swarmctl::plan::{self, DiscretePlan};
 
 #[derive(Debug, clap::Args)]
@@ -32,6 +33,10 @@ pub struct Args {
     /// Print a plain status line every few seconds instead of a spinner.
     #[arg(long)]
     plain: bool,
+    /// MAVLink 2 signing key file (64 hex digits), overriding the mission's
+    /// `link.signing`. The bundled SITL then enforces signatures too.
+    #[arg(long, value_name = "FILE")]
+    signing_key_file: Option<PathBuf>,
     /// Where the Rerun recording goes (default: beside the flight log).
     #[command(flatten)]
     viewer: swarmctl::record::ViewerArgs,
@@ -119,6 +124,11 @@ async fn fly_async(
                 })
         })
         .collect();
+    let source = match &args.signing_key_file {
+        Some(file) => Some(KeySource::File(file.clone())),
+        None => mission.link.signing.clone(),
+    };
+    let signing_key = source.as_ref().map(SigningKey::load).transpose()?;
     let mut swarm = None;
     let vehicles = if endpoints.iter().all(Option::is_none) {
         let flavour = match args.autopilot.as_deref() {
@@ -129,7 +139,10 @@ async fn fly_async(
                 Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
             },
         };
-        let configs = fly::sitl::vehicle_configs(mission, plan, flavour, &args.faults)?;
+        let mut configs = fly::sitl::vehicle_configs(mission, plan, flavour, &args.faults)?;
+        for c in &mut configs {
+            c.signing_key = signing_key.as_ref().map(SigningKey::bytes);
+        }
         let (s, links) = fly::sitl::start(configs, mission.link.setpoint_rate_hz).await?;
         eprintln!(
             "started the bundled SITL: {} {flavour:?} vehicles on 127.0.0.1",
@@ -160,6 +173,10 @@ async fn fly_async(
     if args.plain {
         options.status = StatusMode::Plain;
     }
+    if signing_key.is_some() {
+        eprintln!("MAVLink 2 signing on: unsigned or wrongly signed messages are refused");
+    }
+    options.signing_key = signing_key;
     let result = fly::fly(mission, plan, &options, abort_rx).await;
     if let Some(s) = swarm {
         s.shutdown().await;

@@ -29,7 +29,7 @@ pub use log::{DroneLog, FlightLog, Summary};
 pub use monitor::StatusMode;
 pub use observer::FlightObserver;
 
-use crate::link::{CommandPolicy, Flavour, Session, frames};
+use crate::link::{CommandPolicy, Flavour, Session, SigningKey, frames};
 use crate::mission::Mission;
 use crate::plan::DiscretePlan;
 use crate::schedule;
@@ -64,6 +64,8 @@ pub struct FlyOptions {
     pub command_policy: CommandPolicy,
     /// Sees every telemetry sample and event live (a Rerun recorder, say).
     pub observer: Option<Arc<dyn FlightObserver>>,
+    /// MAVLink 2 signing key shared with the vehicles; `None` flies unsigned.
+    pub signing_key: Option<SigningKey>,
 }
 
 impl std::fmt::Debug for FlyOptions {
@@ -77,6 +79,7 @@ impl std::fmt::Debug for FlyOptions {
             .field("status", &self.status)
             .field("command_policy", &self.command_policy)
             .field("observer", &self.observer.as_ref().map(|_| "set"))
+            .field("signing_key", &self.signing_key)
             .finish()
     }
 }
@@ -92,6 +95,7 @@ impl FlyOptions {
             status: StatusMode::Auto,
             command_policy: CommandPolicy::default(),
             observer: None,
+            signing_key: None,
         }
     }
 }
@@ -124,12 +128,17 @@ pub async fn fly(
 
     let mut sessions = Vec::new();
     for (id, v) in ids.iter().zip(&options.vehicles) {
-        let session = Session::connect(&v.endpoint, v.system_id, options.command_policy)
-            .await
-            .map_err(|source| FlyError::Link {
-                drone: id.clone(),
-                source,
-            })?;
+        let session = Session::connect(
+            &v.endpoint,
+            v.system_id,
+            options.command_policy,
+            options.signing_key.as_ref(),
+        )
+        .await
+        .map_err(|source| FlyError::Link {
+            drone: id.clone(),
+            source,
+        })?;
         sessions.push(Arc::new(session));
     }
     let grounds: Vec<[f64; 3]> = routes

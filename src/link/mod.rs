@@ -11,9 +11,11 @@ pub mod frames;
 pub mod messages;
 pub mod receive;
 pub mod session;
+pub mod signing;
 pub mod telemetry;
 
 pub use error::LinkError;
 pub use flavour::{Flavour, ModeRequest};
 pub use session::{CommandPolicy, Session};
+pub use signing::{SigningKey, SigningKeyError};
 pub use telemetry::{PositionSample, VehicleState};

@@ -13,6 +13,7 @@ use super::messages::{
     GCS_COMPONENT_ID, GCS_SYSTEM_ID, command_long, gcs_heartbeat, position_velocity_target,
 };
 use super::receive;
+use super::signing::SigningKey;
 use super::telemetry::VehicleState;
 use mavlink::dialects::common::{COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavResult};
 use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader};
@@ -66,17 +67,24 @@ impl Drop for Session {
 impl Session {
     /// Opens `endpoint` (any rust-mavlink address: `udpout:`, `udpin:`, `tcpout:` …)
     /// and starts the reader and heartbeat tasks for vehicle `system_id`.
+    ///
+    /// With a signing key every message we send is signed and unsigned or wrongly
+    /// signed input is dropped before it reaches the session.
     pub async fn connect(
         endpoint: &str,
         system_id: u8,
         policy: CommandPolicy,
+        signing: Option<&SigningKey>,
     ) -> Result<Session, LinkError> {
-        let connection = mavlink::connect_async::<MavMessage>(endpoint)
+        let mut connection = mavlink::connect_async::<MavMessage>(endpoint)
             .await
             .map_err(|source| LinkError::Connect {
                 endpoint: endpoint.to_string(),
                 source,
             })?;
+        if let Some(key) = signing {
+            connection.setup_signing(Some(key.config()));
+        }
         let connection = Arc::new(connection);
         let state = Arc::new(Mutex::new(VehicleState::default()));
         let (acks, _) = broadcast::channel(32);

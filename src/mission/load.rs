@@ -2,7 +2,7 @@
 
 use super::error::{MissionError, Problem};
 use super::schema::MissionFile;
-use super::types::Mission;
+use super::types::{KeySource, Mission};
 use super::validate::validate;
 use std::path::Path;
 
@@ -39,10 +39,18 @@ pub fn from_yaml(text: &str, file: &Path) -> Result<Mission, MissionError> {
         file: file.to_path_buf(),
         problems: vec![problem],
     })?;
-    validate(&parsed).map_err(|problems| MissionError::Invalid {
+    let mut mission = validate(&parsed).map_err(|problems| MissionError::Invalid {
         file: file.to_path_buf(),
         problems,
-    })
+    })?;
+    // A key file is named relative to the mission, so the mission can move with it.
+    if let Some(KeySource::File(key_file)) = &mut mission.link.signing
+        && key_file.is_relative()
+        && let Some(dir) = file.parent()
+    {
+        *key_file = dir.join(&*key_file);
+    }
+    Ok(mission)
 }
 
 /// Parses the YAML into the file schema without validating it.

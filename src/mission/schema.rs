@@ -119,6 +119,23 @@ pub struct LinkSpec {
     /// A vehicle silent for this long counts as lost.
     #[serde(default = "default_link_timeout_s")]
     pub link_timeout_s: f64,
+    /// MAVLink 2 signing: where the swarm's secret key is kept (never the key).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub signing: Option<SigningSpec>,
+}
+
+/// Where a mission's MAVLink 2 signing key comes from: exactly one of the two.
+/// The key itself never appears in a mission file, a log or a message.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SigningSpec {
+    /// A file holding the 32-byte key as 64 hex digits; relative paths are
+    /// relative to the mission file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub key_file: Option<std::path::PathBuf>,
+    /// An environment variable holding the key as 64 hex digits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub key_env: Option<String>,
 }
 
 impl Default for LinkSpec {
@@ -127,6 +144,7 @@ impl Default for LinkSpec {
             autopilot: Autopilot::default(),
             setpoint_rate_hz: default_setpoint_rate_hz(),
             link_timeout_s: default_link_timeout_s(),
+            signing: None,
         }
     }
 }

@@ -36,11 +36,22 @@ pub struct Limits {
     pub safety_distance_m: f64,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LinkSettings {
     pub autopilot: Autopilot,
     pub setpoint_rate_hz: f64,
     pub link_timeout_s: f64,
+    /// Where the MAVLink 2 signing key is; `None` flies unsigned.
+    pub signing: Option<KeySource>,
+}
+
+/// Where a signing key is read from when a flight starts (see `link::signing`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub enum KeySource {
+    /// A file with 64 hex digits (a path relative to the mission file once loaded).
+    File(std::path::PathBuf),
+    /// An environment variable with 64 hex digits.
+    Env(String),
 }
 
 /// Interchangeable drones sharing one set of goals.

@@ -2,7 +2,7 @@
 
 use super::error::Problem;
 use super::schema::{MissionFile, ObstacleSpec, RawVoxel};
-use super::types::{Drone, Group, Limits, LinkSettings, Mission};
+use super::types::{Drone, Group, KeySource, Limits, LinkSettings, Mission};
 use crate::world::{Voxel, VoxelGrid};
 use std::collections::{BTreeMap, HashMap};
 
@@ -83,6 +83,29 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         );
     }
     check_positive(&mut report, "link.link_timeout_s", link.link_timeout_s, "s");
+    let signing = match &link.signing {
+        None => None,
+        Some(spec) => match (&spec.key_file, &spec.key_env) {
+            (Some(file), None) if !file.as_os_str().is_empty() => {
+                Some(KeySource::File(file.clone()))
+            }
+            (None, Some(var)) if !var.trim().is_empty() => Some(KeySource::Env(var.clone())),
+            (Some(_), Some(_)) => {
+                report(
+                    "link.signing".into(),
+                    "give key_file or key_env, not both".into(),
+                );
+                None
+            }
+            _ => {
+                report(
+                    "link.signing".into(),
+                    "needs key_file (a file with 64 hex digits) or key_env (an environment variable holding them)".into(),
+                );
+                None
+            }
+        },
+    };
 
     if file.groups.is_empty() {
         report(
@@ -288,6 +311,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             autopilot: link.autopilot,
             setpoint_rate_hz: link.setpoint_rate_hz,
             link_timeout_s: link.link_timeout_s,
+            signing,
         },
         groups,
     })

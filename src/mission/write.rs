@@ -59,6 +59,15 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
     writeln!(out, "  autopilot: {}", link.autopilot)?;
     writeln!(out, "  setpoint_rate_hz: {:?}", link.setpoint_rate_hz)?;
     writeln!(out, "  link_timeout_s: {:?}", link.link_timeout_s)?;
+    if let Some(signing) = &link.signing {
+        writeln!(out, "  signing:")?;
+        if let Some(file) = &signing.key_file {
+            writeln!(out, "    key_file: {}", quoted(&file.to_string_lossy()))?;
+        }
+        if let Some(var) = &signing.key_env {
+            writeln!(out, "    key_env: {}", quoted(var))?;
+        }
+    }
     writeln!(out, "groups:")?;
     for group in &file.groups {
         writeln!(out, "  - name: {}", quoted(&group.name))?;
