@@ -27,6 +27,7 @@ mod commands;
 pub mod config;
 pub mod dynamics;
 pub mod error;
+pub mod forge;
 pub mod geo;
 mod link;
 pub mod mode;
