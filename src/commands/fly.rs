@@ -9,6 +9,7 @@ use swarmctl::import;
 use swarmctl::link::SigningKey;
 use swarmctl::mission::{Autopilot, KeySource, Mission};
 use swarmctl::plan::{self, DiscretePlan};
+use swarmctl::record::{LiveFlight, RecorderOptions, Sink};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -53,12 +54,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Some(path) => load_plan(path)?,
         None => plan_now(&mission, args.deadline)?,
     };
-    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
-    let log = runtime.block_on(fly_async(&args, &mission, &plan))?;
     let path = args
         .log
         .clone()
         .unwrap_or_else(|| default_log_path(&mission));
+    // Recorded live; flying never depends on it (a recorder that fails only warns).
+    let recording = start_recording(&args, &mission, &plan, &path);
+    let observer = recording.as_ref().map(|(r, _)| r.observer());
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    let log = runtime.block_on(fly_async(&args, &mission, &plan, observer))?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
@@ -80,10 +84,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     println!("  log                  {}", path.display());
-    let sink = args.viewer.sink_or_beside(&path);
-    match swarmctl::record::record_flown(&mission, &plan, &log, &sink) {
-        Ok(_) => println!("  recording            {}", super::replay::describe(&sink)),
-        Err(e) => eprintln!("warning: no Rerun recording: {e:#}"),
+    if let Some(recording) = recording {
+        finish_recording(recording, &log);
     }
     let ok = log.summary.completed && log.summary.min_separation_m >= log.summary.safety_distance_m;
     Ok(if ok {
@@ -97,6 +99,7 @@ async fn fly_async(
     args: &Args,
     mission: &Mission,
     plan: &DiscretePlan,
+    observer: Option<std::sync::Arc<dyn fly::FlightObserver>>,
 ) -> anyhow::Result<fly::FlightLog> {
     let (abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     tokio::spawn(async move {
@@ -170,6 +173,7 @@ async fn fly_async(
             .collect::<anyhow::Result<_>>()?
     };
     let mut options = FlyOptions::new(vehicles);
+    options.observer = observer;
     if args.plain {
         options.status = StatusMode::Plain;
     }
@@ -224,4 +228,36 @@ fn default_log_path(mission: &Mission) -> PathBuf {
         })
         .collect();
     PathBuf::from("flights").join(format!("{name}-{unix_s}.json"))
+}
+
+/// Opens the flight's Rerun recording (beside the log unless --rrd, --spawn or
+/// --connect say otherwise); `None`, with a warning, if it cannot be opened.
+fn start_recording(
+    args: &Args,
+    mission: &Mission,
+    plan: &DiscretePlan,
+    log_path: &Path,
+) -> Option<(LiveFlight, Sink)> {
+    let sink = args.viewer.sink_or_beside(log_path);
+    match LiveFlight::start(mission, plan, &sink, RecorderOptions::default()) {
+        Ok(recording) => Some((recording, sink)),
+        Err(e) => {
+            eprintln!("warning: flying without a Rerun recording: {e:#}");
+            None
+        }
+    }
+}
+
+/// Finishes the live recording and reports it, with samples dropped to keep the
+/// setpoint streams on time.
+fn finish_recording((recording, sink): (LiveFlight, Sink), log: &fly::FlightLog) {
+    match recording.finish(log) {
+        Ok(stats) => println!(
+            "  recording            {} ({} samples live, {} dropped)",
+            super::replay::describe(&sink),
+            stats.samples_logged,
+            stats.samples_dropped
+        ),
+        Err(e) => eprintln!("warning: the Rerun recording is incomplete: {e:#}"),
+    }
 }

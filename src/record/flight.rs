@@ -9,7 +9,7 @@ use swarmctl_viz::{
 };
 
 /// The executor's event that starts the plan clock (see `fly::executor`).
-const PLAN_START_EVENT: &str = "all drones at their start";
+pub(crate) const PLAN_START_EVENT: &str = "all drones at their start";
 
 /// When plan execution began, seconds after the first arm command: where plan
 /// time 0 falls on the flight's timeline. `None` if the plan never started.
@@ -92,17 +92,4 @@ pub fn record_flight(
     }
     drop(handle);
     Ok(recorder.finish()?)
-}
-
-/// What `swarmctl fly` records once its log is written: the flight beside the
-/// plan it flew. If the plan cannot be scheduled for display, the flight is
-/// still recorded, without the plan.
-pub fn record_flown(
-    mission: &Mission,
-    plan: &crate::plan::DiscretePlan,
-    log: &FlightLog,
-    sink: &Sink,
-) -> Result<RecorderStats, RecordError> {
-    let compiled = super::schedule_discrete(mission, plan).ok();
-    record_flight(log, Some(mission), compiled.as_ref(), sink)
 }

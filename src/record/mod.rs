@@ -2,20 +2,23 @@
 //!
 //! The one place that turns swarmctl's types into `swarmctl-viz`'s plain input
 //! types (`viz` must not depend on this crate: the binary depends on it). One file
-//! per source type; the CLI calls [`record_plan`] and [`record_flight`].
+//! per source type; the CLI calls [`record_plan`], [`LiveFlight`] (a flight as it
+//! happens) and [`record_flight`] (a flight log, afterwards).
 
 mod args;
 mod discrete;
 mod flight;
+mod live;
 mod mission;
 mod plan;
 
 pub use args::ViewerArgs;
 pub use discrete::schedule_discrete;
-pub use flight::{flight_plan_offset_s, record_flight, record_flown};
+pub use flight::{flight_plan_offset_s, record_flight};
+pub use live::LiveFlight;
 pub use mission::mission_scene;
 pub use plan::{plan_scene, record_plan};
-pub use swarmctl_viz::{Sink, VizError};
+pub use swarmctl_viz::{RecorderOptions, RecorderStats, Sink, VizError};
 
 /// Why a recording could not be made.
 #[derive(Debug, thiserror::Error)]

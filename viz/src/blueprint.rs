@@ -23,7 +23,7 @@ pub fn layout(timeline: &str) -> Blueprint {
             .into(),
         TimeSeriesView::new("speed (m/s)")
             .with_origin("/metrics")
-            .with_contents(["/metrics/plan/speed_mps/**", "/metrics/flight/speed_mps/**"])
+            .with_contents(["/metrics/plan/speed_mps", "/metrics/flight/speed_mps"])
             .into(),
         TextLogView::new("events").with_origin("/events").into(),
     ]);

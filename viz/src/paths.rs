@@ -1,4 +1,9 @@
-//! Entity paths, built from drone ids so any id (even one with `/`) is one part.
+//! Entity paths. `kind` is `plan` or `flight`.
+//!
+//! A swarm is logged as a few entities holding every drone as one instance (drone
+//! `i` of the scene is instance `i`, labelled with its id), not as one entity per
+//! drone: a recording of 100 drones then costs a few chunks per flush instead of
+//! hundreds, which is what keeps live recording cheap next to the flight itself.
 
 use rerun::{EntityPath, EntityPathPart};
 
@@ -25,23 +30,21 @@ pub fn starts(group: &str) -> EntityPath {
 pub fn goals(group: &str) -> EntityPath {
     path(&["world", "plan", "goals", group])
 }
-pub fn plan_path(drone: &str) -> EntityPath {
-    path(&["world", "plan", "paths", drone])
+/// Every drone's position: one point per drone, labelled with its id.
+pub fn drones(kind: &str) -> EntityPath {
+    path(&["world", kind, "drones"])
 }
-/// A drone's scheduled position (`kind` is `plan` or `flight`).
-pub fn drone(kind: &str, drone: &str) -> EntityPath {
-    path(&["world", kind, "drones", drone])
+/// The spheres around the drones whose overlap means a safety breach.
+pub fn safety(kind: &str) -> EntityPath {
+    path(&["world", kind, "safety"])
 }
-/// The sphere around a drone whose overlap with another means a safety breach.
-pub fn safety(kind: &str, drone: &str) -> EntityPath {
-    path(&["world", kind, "safety", drone])
+/// Planned voxel paths (`plan`) or flown paths (`flight`): one line strip per drone.
+pub fn paths(kind: &str) -> EntityPath {
+    path(&["world", kind, "paths"])
 }
-/// The path a drone actually flew.
-pub fn flown_path(drone: &str) -> EntityPath {
-    path(&["world", "flight", "paths", drone])
-}
-pub fn speed(kind: &str, drone: &str) -> EntityPath {
-    path(&["metrics", kind, "speed_mps", drone])
+/// Every drone's speed: one series per drone, named by its id.
+pub fn speeds(kind: &str) -> EntityPath {
+    path(&["metrics", kind, "speed_mps"])
 }
 pub fn min_separation(kind: &str) -> EntityPath {
     path(&["metrics", kind, "min_separation_m"])

@@ -1,15 +1,18 @@
 //! Logging a [`Scene`]: the world, the plan's static geometry and its schedule.
 //!
 //! The schedule is known in full before logging starts, so it goes in as columns
-//! (`send_columns`): one chunk per drone and timeline instead of one row per
-//! sample, and no reliance on the stream's per-thread current time.
+//! (`send_columns`): every drone's trajectory resampled onto one shared time grid,
+//! one chunk per entity and timeline, and no reliance on the stream's per-thread
+//! current time.
 
 use crate::style::{self, f32x3};
-use crate::{Scene, TimeAxis, VizError, metrics, paths};
+use crate::{PlanEvent, Scene, TimeAxis, VizError, metrics, paths, swarm};
 use rerun::{RecordingStream, TimeColumn};
 
-/// How often the plan's minimum separation is evaluated, seconds.
-const SEPARATION_PERIOD_S: f64 = 0.05;
+/// Grid period used when the drones' trajectories are not sampled alike, seconds.
+const FALLBACK_PERIOD_S: f64 = 0.05;
+/// Never resample a plan onto more rows than this (a bound on memory, not a limit in practice).
+const MAX_ROWS: usize = 200_000;
 
 /// Writes (or streams) a recording of `scene`: static geometry once, the
 /// schedule on every axis in `axes`; returns once everything is flushed.
@@ -21,39 +24,147 @@ pub fn write_scene(scene: &Scene, sink: &crate::Sink, axes: &[TimeAxis]) -> Resu
         .map_err(|e| VizError::Flush(e.to_string()))
 }
 
-/// Logs `scene` into `rec`: static geometry once, the schedule on every axis in `axes`.
-pub(crate) fn log_scene(
-    rec: &RecordingStream,
-    scene: &Scene,
-    axes: &[TimeAxis],
-) -> Result<(), VizError> {
-    crate::world::log_world(rec, scene)?;
-    log_markers(rec, scene)?;
-    log_drone_styles(rec, scene, "plan")?;
-    let separation = {
+/// The plan's drones on one time grid, ready to be logged on any axis.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PlanRows {
+    /// Number of drones per row (the scene's drones that have a trajectory).
+    drones: usize,
+    times_s: Vec<f64>,
+    /// `times_s.len()` rows of `drones` positions.
+    positions: Vec<[f32; 3]>,
+    /// Same layout: speed since the previous row.
+    speeds_mps: Vec<f64>,
+    /// The swarm's minimum separation at each row.
+    separation: Vec<(f64, f64)>,
+    safety_distance_m: f64,
+    events: Vec<PlanEvent>,
+}
+
+impl PlanRows {
+    /// Resamples every drone's trajectory onto one grid: the trajectories' own
+    /// sample times when they share them (a compiled plan does), else a fine
+    /// uniform grid. Drones hold their last position once their trajectory ends.
+    pub(crate) fn new(scene: &Scene) -> Self {
         let tracks: Vec<&[[f64; 4]]> = scene
             .drones
             .iter()
             .map(|d| d.trajectory.as_slice())
+            .filter(|t| !t.is_empty())
             .collect();
-        metrics::min_separation_series(&tracks, SEPARATION_PERIOD_S)
-    };
-    for axis in axes {
-        for drone in &scene.drones {
-            log_trajectory(rec, drone, axis)?;
+        let times_s = grid(&tracks);
+        let n = tracks.len();
+        let mut rows = Self {
+            drones: n,
+            positions: Vec::with_capacity(times_s.len() * n),
+            speeds_mps: Vec::with_capacity(times_s.len() * n),
+            separation: Vec::with_capacity(times_s.len()),
+            safety_distance_m: scene.safety_distance_m,
+            events: scene.events.clone(),
+            times_s: Vec::new(),
+        };
+        let mut previous: Vec<[f64; 3]> = Vec::new();
+        let mut current: Vec<[f64; 3]> = Vec::with_capacity(n);
+        let mut previous_t_s = f64::NAN;
+        for &t_s in &times_s {
+            current.clear();
+            current.extend(tracks.iter().filter_map(|t| metrics::position_at(t, t_s)));
+            for (i, p) in current.iter().enumerate() {
+                let speed = match previous.get(i) {
+                    Some(q) if t_s > previous_t_s => distance(p, q) / (t_s - previous_t_s),
+                    _ => 0.0,
+                };
+                rows.speeds_mps.push(speed);
+                rows.positions.push(f32x3(*p));
+            }
+            if let Some(d) = metrics::min_pairwise_m(&current) {
+                rows.separation.push((t_s, d));
+            }
+            std::mem::swap(&mut previous, &mut current);
+            previous_t_s = t_s;
         }
-        log_series(rec, &paths::min_separation("plan"), axis, &separation)?;
-        if let (Some(first), Some(last)) = (separation.first(), separation.last()) {
-            let line = [
-                (first.0, scene.safety_distance_m),
-                (last.0, scene.safety_distance_m),
-            ];
-            log_series(rec, &paths::safety_distance("plan"), axis, &line)?;
-        }
-        log_events(rec, scene, axis)?;
+        rows.times_s = times_s;
+        rows
     }
-    log_series_styles(rec, scene, "plan")?;
-    Ok(())
+
+    /// Scene indices of the drones in the rows, in instance order.
+    pub(crate) fn members(scene: &Scene) -> Vec<usize> {
+        (0..scene.drones.len())
+            .filter(|&i| !scene.drones[i].trajectory.is_empty())
+            .collect()
+    }
+}
+
+/// The sample times shared by every track if they share them (each a prefix of
+/// the longest), else a uniform grid over all of them.
+fn grid(tracks: &[&[[f64; 4]]]) -> Vec<f64> {
+    let Some(longest) = tracks.iter().max_by_key(|t| t.len()) else {
+        return Vec::new();
+    };
+    let shared = tracks
+        .iter()
+        .all(|t| t.iter().zip(longest.iter()).all(|(a, b)| a[0] == b[0]));
+    if shared {
+        return longest.iter().map(|s| s[0]).collect();
+    }
+    let t0 = tracks.iter().map(|t| t[0][0]).fold(f64::INFINITY, f64::min);
+    let t1 = tracks
+        .iter()
+        .map(|t| t[t.len() - 1][0])
+        .fold(f64::NEG_INFINITY, f64::max);
+    let period_s = tracks
+        .iter()
+        .filter_map(|t| t.get(1).map(|s| s[0] - t[0][0]))
+        .filter(|dt| *dt > 0.0)
+        .fold(FALLBACK_PERIOD_S, f64::min)
+        .max((t1 - t0) / MAX_ROWS as f64);
+    let steps = ((t1 - t0) / period_s).ceil() as usize;
+    (0..=steps)
+        .map(|k| (t0 + k as f64 * period_s).min(t1))
+        .collect()
+}
+
+fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Logs `scene` into `rec`: static geometry and styles once, the schedule on
+/// every axis in `axes`. Returns the plan's rows so they can be logged on
+/// another axis later (a live flight learns when the plan starts only then).
+pub(crate) fn log_scene(
+    rec: &RecordingStream,
+    scene: &Scene,
+    axes: &[TimeAxis],
+) -> Result<PlanRows, VizError> {
+    crate::world::log_world(rec, scene)?;
+    log_markers(rec, scene)?;
+    let members = PlanRows::members(scene);
+    swarm::log_styles(rec, scene, "plan", &members)?;
+    swarm::log_series_styles(rec, "plan")?;
+    let rows = PlanRows::new(scene);
+    for axis in axes {
+        log_plan_axis(rec, &rows, axis)?;
+    }
+    Ok(rows)
+}
+
+/// The schedule on one axis: drones, safety spheres, speeds, separation, waits.
+pub(crate) fn log_plan_axis(
+    rec: &RecordingStream,
+    rows: &PlanRows,
+    axis: &TimeAxis,
+) -> Result<(), VizError> {
+    let n = rows.drones;
+    swarm::send_positions(rec, "plan", axis, &rows.times_s, n, rows.positions.clone())?;
+    swarm::send_speeds(rec, "plan", axis, &rows.times_s, n, rows.speeds_mps.clone())?;
+    swarm::send_series(rec, &paths::min_separation("plan"), axis, &rows.separation)?;
+    if let (Some(first), Some(last)) = (rows.separation.first(), rows.separation.last()) {
+        let line = [
+            (first.0, rows.safety_distance_m),
+            (last.0, rows.safety_distance_m),
+        ];
+        swarm::send_series(rec, &paths::safety_distance("plan"), axis, &line)?;
+    }
+    log_events(rec, &rows.events, axis)
 }
 
 pub(crate) fn log_err(
@@ -99,163 +210,29 @@ fn log_markers(rec: &RecordingStream, scene: &Scene) -> Result<(), VizError> {
         )
         .map_err(log_err(&goals))?;
     }
-    for drone in &scene.drones {
-        let entity = paths::plan_path(&drone.id);
-        let strip: Vec<[f32; 3]> = drone.path_m.iter().map(|p| f32x3(*p)).collect();
-        rec.log_static(
-            entity.clone(),
-            &rerun::LineStrips3D::new([strip])
-                .with_colors([style::color(scene.drone_color(drone))])
-                .with_radii([style::line_radius_m(scene.voxel_size_m)]),
-        )
-        .map_err(log_err(&entity))?;
-    }
-    Ok(())
-}
-
-/// What does not change over time for each drone marker: label, colour, size,
-/// and the safety sphere's radius (half the safety distance, so two spheres
-/// overlap exactly when two drones are closer than the safety distance).
-pub(crate) fn log_drone_styles(
-    rec: &RecordingStream,
-    scene: &Scene,
-    kind: &str,
-) -> Result<(), VizError> {
-    let radius = style::drone_radius_m(scene.voxel_size_m);
-    let half = (scene.safety_distance_m / 2.0) as f32;
-    for drone in &scene.drones {
-        let rgb = match kind {
-            "flight" => style::flown(scene.drone_color(drone)),
-            _ => scene.drone_color(drone),
-        };
-        let entity = paths::drone(kind, &drone.id);
-        rec.log_static(
-            entity.clone(),
-            &rerun::Points3D::update_fields()
-                .with_labels([drone.id.as_str()])
-                .with_colors([style::color(rgb)])
-                .with_radii([radius]),
-        )
-        .map_err(log_err(&entity))?;
-        let entity = paths::safety(kind, &drone.id);
-        rec.log_static(
-            entity.clone(),
-            &rerun::Ellipsoids3D::update_fields()
-                .with_half_sizes([[half; 3]])
-                .with_colors([style::color(rgb)])
-                .with_fill_mode(rerun::FillMode::MajorWireframe),
-        )
-        .map_err(log_err(&entity))?;
-    }
-    Ok(())
-}
-
-/// One drone's scheduled positions, safety sphere centres and speed as columns.
-fn log_trajectory(
-    rec: &RecordingStream,
-    drone: &crate::Drone,
-    axis: &TimeAxis,
-) -> Result<(), VizError> {
-    if drone.trajectory.is_empty() {
-        return Ok(());
-    }
-    let times = || {
-        TimeColumn::new_duration_secs(
-            axis.timeline,
-            drone.trajectory.iter().map(|s| s[0] + axis.offset_s),
-        )
-    };
-    let positions: Vec<[f32; 3]> = drone
-        .trajectory
+    let strips: Vec<(usize, Vec<[f32; 3]>)> = scene
+        .drones
         .iter()
-        .map(|s| f32x3([s[1], s[2], s[3]]))
+        .enumerate()
+        .filter(|(_, d)| !d.path_m.is_empty())
+        .map(|(i, d)| (i, d.path_m.iter().map(|p| f32x3(*p)).collect()))
         .collect();
-    let entity = paths::drone("plan", &drone.id);
-    let columns = rerun::Points3D::update_fields()
-        .with_positions(positions.iter().copied())
-        .columns_of_unit_batches()
-        .map_err(ser_err(&entity))?;
-    rec.send_columns(entity.clone(), [times()], columns)
-        .map_err(log_err(&entity))?;
-    let entity = paths::safety("plan", &drone.id);
-    let columns = rerun::Ellipsoids3D::update_fields()
-        .with_centers(positions)
-        .columns_of_unit_batches()
-        .map_err(ser_err(&entity))?;
-    rec.send_columns(entity.clone(), [times()], columns)
-        .map_err(log_err(&entity))?;
-    log_series(
-        rec,
-        &paths::speed("plan", &drone.id),
-        axis,
-        &metrics::speeds(&drone.trajectory),
-    )
-}
-
-/// A scalar time series `(t_s, value)` as one column.
-pub(crate) fn log_series(
-    rec: &RecordingStream,
-    entity: &rerun::EntityPath,
-    axis: &TimeAxis,
-    series: &[(f64, f64)],
-) -> Result<(), VizError> {
-    if series.is_empty() {
-        return Ok(());
-    }
-    let times =
-        TimeColumn::new_duration_secs(axis.timeline, series.iter().map(|s| s.0 + axis.offset_s));
-    let columns = rerun::Scalars::new(series.iter().map(|s| s.1))
-        .columns_of_unit_batches()
-        .map_err(ser_err(entity))?;
-    rec.send_columns(entity.clone(), [times], columns)
-        .map_err(log_err(entity))
-}
-
-/// Series names and colours: each drone's speed in its group colour, the
-/// safety distance in red.
-pub(crate) fn log_series_styles(
-    rec: &RecordingStream,
-    scene: &Scene,
-    kind: &str,
-) -> Result<(), VizError> {
-    for drone in &scene.drones {
-        let entity = paths::speed(kind, &drone.id);
-        rec.log_static(
-            entity.clone(),
-            &rerun::SeriesLines::new()
-                .with_names([drone.id.as_str()])
-                .with_colors([style::color(scene.drone_color(drone))]),
-        )
-        .map_err(log_err(&entity))?;
-    }
-    let entity = paths::safety_distance(kind);
-    rec.log_static(
-        entity.clone(),
-        &rerun::SeriesLines::new()
-            .with_names(["safety distance"])
-            .with_colors([style::color(style::SAFETY_RGB)]),
-    )
-    .map_err(log_err(&entity))?;
-    let entity = paths::min_separation(kind);
-    rec.log_static(
-        entity.clone(),
-        &rerun::SeriesLines::new().with_names([format!("{kind} min separation")]),
-    )
-    .map_err(log_err(&entity))
+    swarm::log_paths(rec, scene, "plan", &strips)
 }
 
 /// TPG waits and other scheduled events as text, in time order.
-fn log_events(rec: &RecordingStream, scene: &Scene, axis: &TimeAxis) -> Result<(), VizError> {
-    if scene.events.is_empty() {
+fn log_events(
+    rec: &RecordingStream,
+    events: &[PlanEvent],
+    axis: &TimeAxis,
+) -> Result<(), VizError> {
+    if events.is_empty() {
         return Ok(());
     }
     let entity = paths::events("plan");
-    let times = TimeColumn::new_duration_secs(
-        axis.timeline,
-        scene.events.iter().map(|e| e.t_s + axis.offset_s),
-    );
-    let texts: Vec<String> = scene
-        .events
+    let times =
+        TimeColumn::new_duration_secs(axis.timeline, events.iter().map(|e| e.t_s + axis.offset_s));
+    let texts: Vec<String> = events
         .iter()
         .map(|e| match &e.drone {
             Some(d) => format!("{d}: {}", e.text),
@@ -264,12 +241,63 @@ fn log_events(rec: &RecordingStream, scene: &Scene, axis: &TimeAxis) -> Result<(
         .collect();
     let columns = rerun::TextLog::update_fields()
         .with_many_text(texts)
-        .with_many_level(std::iter::repeat_n(
-            rerun::TextLogLevel::INFO,
-            scene.events.len(),
-        ))
+        .with_many_level(std::iter::repeat_n(rerun::TextLogLevel::INFO, events.len()))
         .columns_of_unit_batches()
         .map_err(ser_err(&entity))?;
     rec.send_columns(entity.clone(), [times], columns)
         .map_err(log_err(&entity))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Drone;
+
+    fn drone(id: &str, trajectory: Vec<[f64; 4]>) -> Drone {
+        Drone {
+            id: id.into(),
+            trajectory,
+            ..Drone::default()
+        }
+    }
+
+    #[test]
+    fn shared_sample_times_become_the_grid_and_short_tracks_hold() {
+        let scene = Scene {
+            drones: vec![
+                drone("a", vec![[0.0, 0.0, 0.0, 0.0], [0.5, 1.0, 0.0, 0.0]]),
+                drone("b", vec![[0.0, 0.0, 3.0, 0.0]]),
+                drone("no-plan", vec![]),
+            ],
+            ..Scene::default()
+        };
+        let rows = PlanRows::new(&scene);
+        assert_eq!(PlanRows::members(&scene), vec![0, 1]);
+        assert_eq!(rows.drones, 2);
+        assert_eq!(rows.times_s, vec![0.0, 0.5]);
+        assert_eq!(
+            rows.positions,
+            vec![
+                [0.0, 0.0, 0.0],
+                [0.0, 3.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 3.0, 0.0]
+            ]
+        );
+        assert_eq!(rows.speeds_mps, vec![0.0, 0.0, 2.0, 0.0]);
+        assert_eq!(rows.separation.len(), 2);
+        assert!((rows.separation[1].1 - 10f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn different_sample_times_are_resampled() {
+        let tracks: [&[[f64; 4]]; 2] = [
+            &[[0.0, 0.0, 0.0, 0.0], [0.1, 0.0, 0.0, 0.0]],
+            &[[0.05, 0.0, 0.0, 0.0], [0.2, 0.0, 0.0, 0.0]],
+        ];
+        let times = grid(&tracks);
+        assert_eq!(times.len(), 5);
+        assert_eq!(times[0], 0.0);
+        assert_eq!(times[4], 0.2);
+    }
 }

@@ -2,18 +2,29 @@
 //!
 //! Flying must never wait for logging. The executor hands samples over a bounded
 //! channel with [`RecorderHandle::try_sample`], which never blocks: when the
-//! channel is full the sample is dropped and counted. The recorder thread
-//! buffers samples per drone and sends them as columns every `flush_period_s`
-//! (one chunk per drone instead of one row per sample), which keeps its CPU cost
-//! small and never depends on the stream's per-thread current time for samples.
+//! channel is full the sample is dropped and counted. The recorder thread does not
+//! wake per sample: it sleeps for `poll_period_s`, then drains the channel.
+//!
+//! What it logs is built to cost little next to the flight itself:
+//!
+//! - positions as rows on a `row_period_s` grid, each row holding every drone's
+//!   newest position (one entity for all drones, another for their safety spheres);
+//! - speeds (one series per drone, also one entity) and the swarm's minimum
+//!   separation on a coarser `series_period_s` grid;
+//! - everything buffered and sent as columns every `flush_period_s`: a handful of
+//!   chunks per flush, whatever the number of drones;
+//! - the flown paths once, at the end; events as they come.
+//!
+//! Events are the only thing logged with the stream's current time, which is
+//! per thread: it is set and used on the recorder thread with nothing in between.
 
-use crate::plan::{log_drone_styles, log_err, log_series, log_series_styles, ser_err};
-use crate::style::{self, f32x3};
-use crate::{Scene, TimeAxis, VizError, metrics, paths};
-use rerun::{RecordingStream, TimeColumn};
+use crate::plan::{PlanRows, log_err};
+use crate::style::f32x3;
+use crate::{Scene, TimeAxis, VizError, metrics, paths, swarm};
+use rerun::RecordingStream;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, TrySendError, sync_channel};
+use std::sync::mpsc::{Receiver, SyncSender, TryRecvError, TrySendError, sync_channel};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -31,23 +42,34 @@ pub struct FlightSample {
 pub struct RecorderOptions {
     /// Channel capacity in messages; beyond it samples are dropped.
     pub capacity: usize,
-    /// How often buffered samples are sent to the stream, wall-clock seconds. Each
-    /// flush makes one chunk per drone and entity; chunks carry fixed overhead, so
-    /// at 100 drones x 20 Hz 0.25 s cost ~15% of a core in rerun's threads, 2 s ~4%.
+    /// How long the recorder thread sleeps between draining the channel,
+    /// wall-clock seconds. The channel must hold this long's worth of samples.
+    pub poll_period_s: f64,
+    /// How often buffered rows are sent to the stream, wall-clock seconds: a viewer
+    /// lags the flight by up to this much. Each flush sends about five chunks.
     pub flush_period_s: f64,
-    /// How often the swarm's minimum separation is evaluated, flight seconds.
-    pub separation_period_s: f64,
+    /// Spacing of position rows, flight seconds (each row holds every drone).
+    pub row_period_s: f64,
+    /// Spacing of the speed and minimum-separation series, flight seconds
+    /// (rounded to a whole number of rows).
+    pub series_period_s: f64,
     /// A flown position is added to the drawn path only after moving this far, metres.
     pub path_step_m: f64,
+    /// Rows wait at most this long (flight seconds) for every drone's first sample;
+    /// until then a silent drone is shown at its start.
+    pub first_row_wait_s: f64,
 }
 
 impl Default for RecorderOptions {
     fn default() -> Self {
         Self {
-            capacity: 8192,
-            flush_period_s: 2.0,
-            separation_period_s: 0.1,
+            capacity: 16_384,
+            poll_period_s: 0.1,
+            flush_period_s: 1.0,
+            row_period_s: 0.05,
+            series_period_s: 0.1,
             path_step_m: 0.02,
+            first_row_wait_s: 1.0,
         }
     }
 }
@@ -59,6 +81,10 @@ pub struct RecorderStats {
     pub samples_logged: u64,
     /// Samples dropped because the channel was full (or named an unknown drone).
     pub samples_dropped: u64,
+    /// Events dropped because the channel was full.
+    pub events_dropped: u64,
+    /// Position rows logged (each holds every drone).
+    pub rows_logged: u64,
     /// CPU time of the recorder thread itself (not rerun's own writer threads).
     pub thread_cpu_s: f64,
     /// Wall time the recorder thread ran.
@@ -72,6 +98,10 @@ enum Message {
         drone: Option<String>,
         text: String,
     },
+    /// Plan execution began at this flight time: log the plan on the flight timeline.
+    PlanStart(f64),
+    /// Log what is queued before this, flush and stop (handles may still exist).
+    Finish,
 }
 
 /// A cheap, cloneable sending side for the executor's tasks.
@@ -79,12 +109,14 @@ enum Message {
 pub struct RecorderHandle {
     tx: SyncSender<Message>,
     dropped: Arc<AtomicU64>,
+    events_dropped: Arc<AtomicU64>,
 }
 
-/// Owns the recorder thread; [`Recorder::finish`] flushes and joins it.
+/// Owns the recorder thread; [`Recorder::finish`] flushes and joins it (so does
+/// dropping it, minus the report).
 pub struct Recorder {
     handle: RecorderHandle,
-    thread: JoinHandle<Result<RecorderStats, VizError>>,
+    thread: Option<JoinHandle<Result<RecorderStats, VizError>>>,
 }
 
 impl RecorderHandle {
@@ -106,14 +138,18 @@ impl RecorderHandle {
             .map_err(|_| VizError::RecorderGone)
     }
 
-    /// Queues a text event (never blocks; events are rare, a full channel drops it).
+    /// Queues a text event without blocking; returns false (and counts it) if dropped.
     pub fn try_event(&self, t_s: f64, drone: Option<&str>, text: &str) -> bool {
         let message = Message::Event {
             t_s,
             drone: drone.map(str::to_string),
             text: text.to_string(),
         };
-        self.tx.try_send(message).is_ok()
+        let sent = self.tx.try_send(message).is_ok();
+        if !sent {
+            self.events_dropped.fetch_add(1, Ordering::Relaxed);
+        }
+        sent
     }
 
     /// Queues a text event, waiting for room.
@@ -130,6 +166,20 @@ impl RecorderHandle {
         };
         self.tx.send(message).map_err(|_| VizError::RecorderGone)
     }
+
+    /// Plan execution began `t_s` seconds into the flight: the plan is logged on
+    /// the flight timeline from there, beside the flown drones. Never blocks;
+    /// returns false if the channel was full (the caller may retry later).
+    pub fn try_plan_start(&self, t_s: f64) -> bool {
+        self.tx.try_send(Message::PlanStart(t_s)).is_ok()
+    }
+
+    /// [`Self::try_plan_start`], waiting for room: once nothing is flying.
+    pub fn plan_start_blocking(&self, t_s: f64) -> Result<(), VizError> {
+        self.tx
+            .send(Message::PlanStart(t_s))
+            .map_err(|_| VizError::RecorderGone)
+    }
 }
 
 impl Recorder {
@@ -144,19 +194,25 @@ impl Recorder {
         options: RecorderOptions,
     ) -> Result<Self, VizError> {
         let rec = crate::sink::open(&scene.name, sink, crate::FLIGHT_TIMELINE)?;
-        crate::plan::log_scene(&rec, scene, plan_axes)?;
-        log_drone_styles(&rec, scene, "flight")?;
-        log_series_styles(&rec, scene, "flight")?;
+        let plan = crate::plan::log_scene(&rec, scene, plan_axes)?;
+        let members: Vec<usize> = (0..scene.drones.len()).collect();
+        swarm::log_styles(&rec, scene, "flight", &members)?;
+        swarm::log_series_styles(&rec, "flight")?;
         let (tx, rx) = sync_channel(options.capacity.max(1));
         let dropped = Arc::new(AtomicU64::new(0));
-        let worker = Worker::new(rec, scene, options, Arc::clone(&dropped));
+        let events_dropped = Arc::new(AtomicU64::new(0));
+        let worker = Worker::new(rec, scene, plan, options, Arc::clone(&dropped));
         let thread = std::thread::Builder::new()
             .name("rerun-recorder".into())
             .spawn(move || worker.run(rx))
             .map_err(|_| VizError::RecorderGone)?;
         Ok(Self {
-            handle: RecorderHandle { tx, dropped },
-            thread,
+            handle: RecorderHandle {
+                tx,
+                dropped,
+                events_dropped,
+            },
+            thread: Some(thread),
         })
     }
 
@@ -165,26 +221,40 @@ impl Recorder {
         self.handle.clone()
     }
 
-    /// Closes the channel, waits for everything queued to be logged, flushes the stream.
-    pub fn finish(self) -> Result<RecorderStats, VizError> {
-        let Self { handle, thread } = self;
-        let dropped = Arc::clone(&handle.dropped);
-        drop(handle);
-        let mut stats = thread.join().map_err(|_| VizError::RecorderGone)??;
-        stats.samples_dropped += dropped.load(Ordering::Relaxed);
+    /// Waits for everything queued so far to be logged, flushes the stream and
+    /// stops the thread. Clones of the handle may outlive it: what they send
+    /// afterwards is dropped and counted.
+    pub fn finish(mut self) -> Result<RecorderStats, VizError> {
+        let mut stats = self.stop()?;
+        stats.samples_dropped += self.handle.dropped.load(Ordering::Relaxed);
+        stats.events_dropped += self.handle.events_dropped.load(Ordering::Relaxed);
         Ok(stats)
+    }
+
+    fn stop(&mut self) -> Result<RecorderStats, VizError> {
+        let thread = self.thread.take().ok_or(VizError::RecorderGone)?;
+        // Fails only if the thread already stopped (on an error it will report).
+        let _ = self.handle.tx.send(Message::Finish);
+        thread.join().map_err(|_| VizError::RecorderGone)?
+    }
+}
+
+impl Drop for Recorder {
+    fn drop(&mut self) {
+        if self.thread.is_some() {
+            let _ = self.stop();
+        }
     }
 }
 
 /// Per-drone state on the recorder thread.
 #[derive(Default)]
 struct Track {
-    id: String,
-    last: Option<[f64; 4]>,
-    latest_m: Option<[f64; 3]>,
-    times_s: Vec<f64>,
-    positions: Vec<[f32; 3]>,
-    speed: Vec<(f64, f64)>,
+    /// Newest sample `(t_s, position)`.
+    latest: Option<(f64, [f64; 3])>,
+    /// The sample the last speed was measured from.
+    anchor: Option<(f64, [f64; 3])>,
+    speed_mps: f64,
     path: Vec<[f32; 3]>,
 }
 
@@ -192,75 +262,107 @@ struct Worker {
     rec: RecordingStream,
     axis: TimeAxis,
     options: RecorderOptions,
+    scene: Scene,
+    plan: PlanRows,
+    plan_logged_on_flight: bool,
     tracks: Vec<Track>,
-    separation: Vec<(f64, f64)>,
-    next_separation_s: f64,
+    /// Drones that have reported at least once.
+    reporting: usize,
+    /// Index of the next row to close (its time is `index × row_period_s`), once
+    /// the first sample has arrived.
+    next_row: Option<u64>,
     first_t_s: Option<f64>,
     last_t_s: f64,
-    safety_distance_m: f64,
-    colors: Vec<[u8; 3]>,
-    line_radius_m: f32,
+    rows_since_series: usize,
+    rows_per_series: usize,
+    row_times_s: Vec<f64>,
+    row_positions: Vec<[f32; 3]>,
+    series_times_s: Vec<f64>,
+    series_speeds: Vec<f64>,
+    separation: Vec<(f64, f64)>,
+    scratch: Vec<[f64; 3]>,
     dropped: Arc<AtomicU64>,
     logged: u64,
+    rows_logged: u64,
 }
 
 impl Worker {
     fn new(
         rec: RecordingStream,
         scene: &Scene,
+        plan: PlanRows,
         options: RecorderOptions,
         dropped: Arc<AtomicU64>,
     ) -> Self {
+        let row_period_s = options.row_period_s.max(1e-3);
         Self {
             rec,
             axis: TimeAxis {
                 timeline: crate::FLIGHT_TIMELINE,
                 offset_s: 0.0,
             },
-            tracks: scene
-                .drones
-                .iter()
-                .map(|d| Track {
-                    id: d.id.clone(),
-                    ..Track::default()
-                })
-                .collect(),
-            colors: scene
-                .drones
-                .iter()
-                .map(|d| style::flown(scene.drone_color(d)))
-                .collect(),
-            line_radius_m: style::line_radius_m(scene.voxel_size_m),
-            safety_distance_m: scene.safety_distance_m,
-            separation: Vec::new(),
-            next_separation_s: 0.0,
+            rows_per_series: ((options.series_period_s / row_period_s).round() as usize).max(1),
+            options: RecorderOptions {
+                row_period_s,
+                ..options
+            },
+            scene: scene.clone(),
+            plan,
+            plan_logged_on_flight: false,
+            tracks: scene.drones.iter().map(|_| Track::default()).collect(),
+            reporting: 0,
+            next_row: None,
             first_t_s: None,
             last_t_s: 0.0,
-            options,
+            rows_since_series: 0,
+            row_times_s: Vec::new(),
+            row_positions: Vec::new(),
+            series_times_s: Vec::new(),
+            series_speeds: Vec::new(),
+            separation: Vec::new(),
+            scratch: Vec::new(),
             dropped,
             logged: 0,
+            rows_logged: 0,
         }
     }
 
     fn run(mut self, rx: Receiver<Message>) -> Result<RecorderStats, VizError> {
         let started = Instant::now();
-        let period = Duration::from_secs_f64(self.options.flush_period_s.max(0.001));
-        let mut next_flush = Instant::now() + period;
-        loop {
-            let wait = next_flush.saturating_duration_since(Instant::now());
-            match rx.recv_timeout(wait) {
-                Ok(Message::Sample(s)) => self.sample(s),
-                Ok(Message::Event { t_s, drone, text }) => {
-                    self.event(t_s, drone.as_deref(), &text)?
+        let poll = Duration::from_secs_f64(self.options.poll_period_s.clamp(0.001, 1.0));
+        let flush_period = Duration::from_secs_f64(self.options.flush_period_s.max(0.001));
+        // Drained this many at once: the channel was filling, so poll again at once.
+        let busy = (self.options.capacity / 4).max(1);
+        let mut next_flush = Instant::now() + flush_period;
+        let mut open = true;
+        while open {
+            let mut drained = 0;
+            loop {
+                match rx.try_recv() {
+                    Ok(Message::Finish) => {
+                        open = false;
+                        break;
+                    }
+                    Ok(message) => {
+                        self.handle(message)?;
+                        drained += 1;
+                    }
+                    Err(TryRecvError::Empty) => break,
+                    Err(TryRecvError::Disconnected) => {
+                        open = false;
+                        break;
+                    }
                 }
-                Err(RecvTimeoutError::Timeout) => {}
-                Err(RecvTimeoutError::Disconnected) => break,
             }
             if Instant::now() >= next_flush {
                 self.flush()?;
-                next_flush = Instant::now() + period;
+                next_flush = Instant::now() + flush_period;
+            }
+            if open && drained < busy {
+                std::thread::sleep(poll);
             }
         }
+        self.close_rows(f64::INFINITY);
         self.flush()?;
         self.finish_static()?;
         self.rec
@@ -269,24 +371,44 @@ impl Worker {
         Ok(RecorderStats {
             samples_logged: self.logged,
             samples_dropped: 0,
+            events_dropped: 0,
+            rows_logged: self.rows_logged,
             thread_cpu_s: thread_cpu_s(),
             thread_wall_s: started.elapsed().as_secs_f64(),
         })
     }
 
+    fn handle(&mut self, message: Message) -> Result<(), VizError> {
+        match message {
+            Message::Sample(s) => {
+                self.sample(s);
+                Ok(())
+            }
+            Message::Event { t_s, drone, text } => self.event(t_s, drone.as_deref(), &text),
+            Message::PlanStart(t_s) => self.plan_start(t_s),
+            Message::Finish => Ok(()),
+        }
+    }
+
     fn sample(&mut self, s: FlightSample) {
-        let step_m = self.options.path_step_m;
-        let Some(track) = self.tracks.get_mut(s.drone) else {
+        if s.drone >= self.tracks.len() || !s.t_s.is_finite() {
             self.dropped.fetch_add(1, Ordering::Relaxed);
             return;
-        };
-        let [x, y, z] = s.position_m;
-        let now = [s.t_s, x, y, z];
-        if let Some(last) = track.last
-            && let Some(&(_, v)) = metrics::speeds(&[last, now]).first()
-        {
-            track.speed.push((s.t_s, v));
         }
+        // Rows up to this sample's time are complete: telemetry arrives in time order
+        // up to the executor's tick, which is shorter than a row.
+        if self.next_row.is_none() {
+            self.next_row = Some((s.t_s / self.options.row_period_s).ceil().max(0.0) as u64);
+            self.first_t_s = Some(s.t_s);
+        }
+        self.close_rows(s.t_s);
+        let step_m = self.options.path_step_m;
+        let track = &mut self.tracks[s.drone];
+        if track.latest.is_none() {
+            self.reporting += 1;
+            track.anchor = Some((s.t_s, s.position_m));
+        }
+        track.latest = Some((s.t_s, s.position_m));
         let p = f32x3(s.position_m);
         let moved = track.path.last().is_none_or(|q| {
             let d2: f32 = (0..3).map(|i| (p[i] - q[i]).powi(2)).sum();
@@ -295,20 +417,65 @@ impl Worker {
         if moved {
             track.path.push(p);
         }
-        track.last = Some(now);
-        track.latest_m = Some(s.position_m);
-        track.times_s.push(s.t_s);
-        track.positions.push(p);
         self.logged += 1;
-        self.first_t_s.get_or_insert(s.t_s);
         self.last_t_s = self.last_t_s.max(s.t_s);
-        // Separation ticks follow flight time as seen in the samples.
-        while s.t_s >= self.next_separation_s {
-            let latest: Vec<[f64; 3]> = self.tracks.iter().filter_map(|t| t.latest_m).collect();
-            if let Some(d) = metrics::min_pairwise_m(&latest) {
-                self.separation.push((self.next_separation_s, d));
+    }
+
+    /// Closes every row whose time is before `t_s` (all of them for infinity).
+    fn close_rows(&mut self, t_s: f64) {
+        let (Some(first_t_s), Some(mut next)) = (self.first_t_s, self.next_row) else {
+            return;
+        };
+        let period = self.options.row_period_s;
+        // At the end, one more row so that the last samples are shown.
+        let end = if t_s.is_finite() {
+            t_s
+        } else {
+            self.last_t_s + period
+        };
+        // Until every drone has reported (or a while has passed), hold rows back.
+        let waiting = self.reporting < self.tracks.len()
+            && t_s.is_finite()
+            && t_s - first_t_s < self.options.first_row_wait_s;
+        if waiting {
+            return;
+        }
+        while (next as f64) * period < end {
+            self.close_row(next as f64 * period);
+            next += 1;
+        }
+        self.next_row = Some(next);
+    }
+
+    fn close_row(&mut self, t_s: f64) {
+        self.row_times_s.push(t_s);
+        self.rows_logged += 1;
+        self.scratch.clear();
+        for (track, drone) in self.tracks.iter().zip(&self.scene.drones) {
+            let p = track.latest.map_or(drone.start_m, |(_, p)| p);
+            self.row_positions.push(f32x3(p));
+            if track.latest.is_some() {
+                self.scratch.push(p);
             }
-            self.next_separation_s += self.options.separation_period_s.max(1e-3);
+        }
+        self.rows_since_series += 1;
+        if self.rows_since_series < self.rows_per_series {
+            return;
+        }
+        self.rows_since_series = 0;
+        self.series_times_s.push(t_s);
+        for track in &mut self.tracks {
+            if let (Some((t1, p1)), Some((t0, p0))) = (track.latest, track.anchor)
+                && t1 > t0
+            {
+                let d2: f64 = (0..3).map(|i| (p1[i] - p0[i]).powi(2)).sum();
+                track.speed_mps = d2.sqrt() / (t1 - t0);
+                track.anchor = track.latest;
+            }
+            self.series_speeds.push(track.speed_mps);
+        }
+        if let Some(d) = metrics::min_pairwise_m(&self.scratch) {
+            self.separation.push((t_s, d));
         }
     }
 
@@ -325,42 +492,29 @@ impl Worker {
         result.map_err(log_err(&entity))
     }
 
-    /// Sends every drone's buffered samples as columns, then the separation series.
-    fn flush(&mut self) -> Result<(), VizError> {
-        for track in &mut self.tracks {
-            if track.times_s.is_empty() {
-                continue;
-            }
-            let times = std::mem::take(&mut track.times_s);
-            let positions = std::mem::take(&mut track.positions);
-            let column =
-                |name: &'static str| TimeColumn::new_duration_secs(name, times.iter().copied());
-            let entity = paths::drone("flight", &track.id);
-            let columns = rerun::Points3D::update_fields()
-                .with_positions(positions.iter().copied())
-                .columns_of_unit_batches()
-                .map_err(ser_err(&entity))?;
-            self.rec
-                .send_columns(entity.clone(), [column(self.axis.timeline)], columns)
-                .map_err(log_err(&entity))?;
-            let entity = paths::safety("flight", &track.id);
-            let columns = rerun::Ellipsoids3D::update_fields()
-                .with_centers(positions)
-                .columns_of_unit_batches()
-                .map_err(ser_err(&entity))?;
-            self.rec
-                .send_columns(entity.clone(), [column(self.axis.timeline)], columns)
-                .map_err(log_err(&entity))?;
-            let speed = std::mem::take(&mut track.speed);
-            log_series(
-                &self.rec,
-                &paths::speed("flight", &track.id),
-                &self.axis,
-                &speed,
-            )?;
+    /// The plan on the flight timeline from `t_s`, once.
+    fn plan_start(&mut self, t_s: f64) -> Result<(), VizError> {
+        if std::mem::replace(&mut self.plan_logged_on_flight, true) {
+            return Ok(());
         }
+        let axis = TimeAxis {
+            timeline: crate::FLIGHT_TIMELINE,
+            offset_s: t_s,
+        };
+        crate::plan::log_plan_axis(&self.rec, &self.plan, &axis)
+    }
+
+    /// Sends the buffered rows and series as columns: a few chunks in all.
+    fn flush(&mut self) -> Result<(), VizError> {
+        let n = self.tracks.len();
+        let times = std::mem::take(&mut self.row_times_s);
+        let positions = std::mem::take(&mut self.row_positions);
+        swarm::send_positions(&self.rec, "flight", &self.axis, &times, n, positions)?;
+        let times = std::mem::take(&mut self.series_times_s);
+        let speeds = std::mem::take(&mut self.series_speeds);
+        swarm::send_speeds(&self.rec, "flight", &self.axis, &times, n, speeds)?;
         let separation = std::mem::take(&mut self.separation);
-        log_series(
+        swarm::send_series(
             &self.rec,
             &paths::min_separation("flight"),
             &self.axis,
@@ -370,26 +524,20 @@ impl Worker {
 
     /// At the end: the flown paths as line strips and the safety-distance line.
     fn finish_static(&mut self) -> Result<(), VizError> {
-        for (track, rgb) in self.tracks.iter().zip(&self.colors) {
-            if track.path.len() < 2 {
-                continue;
-            }
-            let entity = paths::flown_path(&track.id);
-            self.rec
-                .log_static(
-                    entity.clone(),
-                    &rerun::LineStrips3D::new([track.path.clone()])
-                        .with_colors([style::color(*rgb)])
-                        .with_radii([self.line_radius_m]),
-                )
-                .map_err(log_err(&entity))?;
-        }
+        let strips: Vec<(usize, Vec<[f32; 3]>)> = self
+            .tracks
+            .iter_mut()
+            .enumerate()
+            .filter(|(_, t)| !t.path.is_empty())
+            .map(|(i, t)| (i, std::mem::take(&mut t.path)))
+            .collect();
+        swarm::log_paths(&self.rec, &self.scene, "flight", &strips)?;
         if let Some(first) = self.first_t_s {
             let line = [
-                (first, self.safety_distance_m),
-                (self.last_t_s, self.safety_distance_m),
+                (first, self.scene.safety_distance_m),
+                (self.last_t_s, self.scene.safety_distance_m),
             ];
-            log_series(
+            swarm::send_series(
                 &self.rec,
                 &paths::safety_distance("flight"),
                 &self.axis,
@@ -410,4 +558,96 @@ fn thread_cpu_s() -> f64 {
     }
     let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
     secs(usage.ru_utime) + secs(usage.ru_stime)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Drone;
+
+    fn scene(n: usize) -> Scene {
+        Scene {
+            name: "test".into(),
+            voxel_size_m: 1.0,
+            safety_distance_m: 0.25,
+            drones: (0..n)
+                .map(|i| Drone {
+                    id: format!("d{i}"),
+                    start_m: [i as f64, 0.0, 0.0],
+                    ..Drone::default()
+                })
+                .collect(),
+            ..Scene::default()
+        }
+    }
+
+    fn worker(n: usize) -> Worker {
+        let (rec, _storage) = rerun::RecordingStreamBuilder::new("recorder-test")
+            .memory()
+            .expect("memory stream");
+        let options = RecorderOptions {
+            row_period_s: 0.1,
+            series_period_s: 0.2,
+            ..RecorderOptions::default()
+        };
+        Worker::new(
+            rec,
+            &scene(n),
+            PlanRows::default(),
+            options,
+            Arc::new(AtomicU64::new(0)),
+        )
+    }
+
+    fn sample(drone: usize, t_s: f64, x: f64) -> FlightSample {
+        FlightSample {
+            drone,
+            t_s,
+            position_m: [x, 0.0, 0.0],
+        }
+    }
+
+    #[test]
+    fn rows_hold_every_drones_newest_position() {
+        let mut w = worker(2);
+        w.sample(sample(0, 0.01, 0.0));
+        w.sample(sample(1, 0.02, 5.0));
+        w.sample(sample(0, 0.11, 1.0));
+        w.sample(sample(1, 0.12, 5.0));
+        w.sample(sample(0, 0.21, 2.0));
+        w.sample(sample(1, 0.22, 5.0));
+        // Rows at 0.1 and 0.2 closed; the one at 0.3 waits for later samples.
+        assert_eq!(w.row_times_s.len(), 2);
+        assert!((w.row_times_s[0] - 0.1).abs() < 1e-12);
+        assert_eq!(w.row_positions[..2], [[0.0, 0.0, 0.0], [5.0, 0.0, 0.0]]);
+        assert_eq!(w.row_positions[2..], [[1.0, 0.0, 0.0], [5.0, 0.0, 0.0]]);
+        // One series row (every second row): drone 0 moved 1 m in 0.1 s.
+        assert_eq!(w.series_times_s.len(), 1);
+        assert!((w.series_speeds[0] - 10.0).abs() < 1e-9);
+        assert_eq!(w.series_speeds[1], 0.0);
+        assert_eq!(w.separation.len(), 1);
+        assert!((w.separation[0].1 - 4.0).abs() < 1e-12);
+        w.close_rows(f64::INFINITY);
+        assert_eq!(*w.row_positions.last().expect("rows"), [5.0, 0.0, 0.0]);
+        assert_eq!(w.logged, 6);
+    }
+
+    #[test]
+    fn rows_wait_for_every_drone_then_show_the_silent_one_at_its_start() {
+        let mut w = worker(2);
+        w.sample(sample(0, 0.0, 0.0));
+        w.sample(sample(0, 0.5, 0.0));
+        assert!(w.row_times_s.is_empty());
+        w.sample(sample(0, 1.05, 0.0));
+        assert_eq!(w.row_times_s.len(), 11);
+        assert_eq!(w.row_positions[1], [1.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn unknown_drones_are_dropped_and_counted() {
+        let mut w = worker(1);
+        w.sample(sample(3, 0.0, 0.0));
+        assert_eq!(w.dropped.load(Ordering::Relaxed), 1);
+        assert_eq!(w.logged, 0);
+    }
 }

@@ -1,0 +1,190 @@
+//! A swarm as columns: each row holds every drone's value at one time.
+//!
+//! Plans and flights log their drones the same way: one entity for all positions
+//! (drone `i` is instance `i`), one for the safety spheres and one for the speeds,
+//! sent with `send_columns` so a whole stretch of time is one chunk per entity.
+//! Nothing here uses the stream's per-thread current time.
+
+use crate::plan::{log_err, ser_err};
+use crate::style;
+use crate::{Scene, TimeAxis, VizError, paths};
+use rerun::{RecordingStream, TimeColumn};
+
+fn times(axis: &TimeAxis, times_s: &[f64]) -> TimeColumn {
+    TimeColumn::new_duration_secs(axis.timeline, times_s.iter().map(|t| t + axis.offset_s))
+}
+
+/// Sends rows of positions: `positions` holds `times_s.len()` rows of `drones`
+/// entries each, row after row. Each row becomes one batch of points and one of
+/// safety-sphere centres.
+pub(crate) fn send_positions(
+    rec: &RecordingStream,
+    kind: &str,
+    axis: &TimeAxis,
+    times_s: &[f64],
+    drones: usize,
+    positions: Vec<[f32; 3]>,
+) -> Result<(), VizError> {
+    if times_s.is_empty() || drones == 0 {
+        return Ok(());
+    }
+    debug_assert_eq!(positions.len(), times_s.len() * drones);
+    let lengths = std::iter::repeat_n(drones, times_s.len());
+    let entity = paths::drones(kind);
+    let columns = rerun::Points3D::update_fields()
+        .with_positions(positions.iter().copied())
+        .columns(lengths.clone())
+        .map_err(ser_err(&entity))?;
+    rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
+        .map_err(log_err(&entity))?;
+    let entity = paths::safety(kind);
+    let columns = rerun::Ellipsoids3D::update_fields()
+        .with_centers(positions)
+        .columns(lengths)
+        .map_err(ser_err(&entity))?;
+    rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
+        .map_err(log_err(&entity))
+}
+
+/// Sends rows of speeds (same layout as [`send_positions`]): one series per drone.
+pub(crate) fn send_speeds(
+    rec: &RecordingStream,
+    kind: &str,
+    axis: &TimeAxis,
+    times_s: &[f64],
+    drones: usize,
+    speeds_mps: Vec<f64>,
+) -> Result<(), VizError> {
+    if times_s.is_empty() || drones == 0 {
+        return Ok(());
+    }
+    debug_assert_eq!(speeds_mps.len(), times_s.len() * drones);
+    let entity = paths::speeds(kind);
+    let columns = rerun::Scalars::new(speeds_mps)
+        .columns(std::iter::repeat_n(drones, times_s.len()))
+        .map_err(ser_err(&entity))?;
+    rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
+        .map_err(log_err(&entity))
+}
+
+/// A scalar time series `(t_s, value)` as one column.
+pub(crate) fn send_series(
+    rec: &RecordingStream,
+    entity: &rerun::EntityPath,
+    axis: &TimeAxis,
+    series: &[(f64, f64)],
+) -> Result<(), VizError> {
+    if series.is_empty() {
+        return Ok(());
+    }
+    let times =
+        TimeColumn::new_duration_secs(axis.timeline, series.iter().map(|s| s.0 + axis.offset_s));
+    let columns = rerun::Scalars::new(series.iter().map(|s| s.1))
+        .columns_of_unit_batches()
+        .map_err(ser_err(entity))?;
+    rec.send_columns(entity.clone(), [times], columns)
+        .map_err(log_err(entity))
+}
+
+/// What does not change over time for the drones `members` (scene indices, in
+/// instance order): labels, colours and size of the points, the safety spheres'
+/// radius (half the safety distance, so two spheres overlap exactly when two
+/// drones are closer than the safety distance), and the speed series' names and
+/// colours. Flown drones are drawn lighter than planned ones.
+pub(crate) fn log_styles(
+    rec: &RecordingStream,
+    scene: &Scene,
+    kind: &str,
+    members: &[usize],
+) -> Result<(), VizError> {
+    if members.is_empty() {
+        return Ok(());
+    }
+    let drones: Vec<&crate::Drone> = members.iter().map(|&i| &scene.drones[i]).collect();
+    let colors: Vec<rerun::Color> = drones
+        .iter()
+        .map(|d| {
+            let rgb = scene.drone_color(d);
+            style::color(if kind == "flight" {
+                style::flown(rgb)
+            } else {
+                rgb
+            })
+        })
+        .collect();
+    let labels: Vec<&str> = drones.iter().map(|d| d.id.as_str()).collect();
+    let half = (scene.safety_distance_m / 2.0) as f32;
+    let entity = paths::drones(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::Points3D::update_fields()
+            .with_labels(labels.iter().copied())
+            .with_colors(colors.iter().copied())
+            .with_radii([style::drone_radius_m(scene.voxel_size_m)]),
+    )
+    .map_err(log_err(&entity))?;
+    let entity = paths::safety(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::Ellipsoids3D::update_fields()
+            .with_half_sizes(std::iter::repeat_n([half; 3], drones.len()))
+            .with_colors(colors.iter().copied())
+            .with_fill_mode(rerun::FillMode::MajorWireframe),
+    )
+    .map_err(log_err(&entity))?;
+    let entity = paths::speeds(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::SeriesLines::new()
+            .with_names(labels.iter().copied())
+            .with_colors(colors),
+    )
+    .map_err(log_err(&entity))
+}
+
+/// Names and colours of the separation plot: the swarm's minimum separation and
+/// the safety distance in red.
+pub(crate) fn log_series_styles(rec: &RecordingStream, kind: &str) -> Result<(), VizError> {
+    let entity = paths::safety_distance(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::SeriesLines::new()
+            .with_names(["safety distance"])
+            .with_colors([style::color(style::SAFETY_RGB)]),
+    )
+    .map_err(log_err(&entity))?;
+    let entity = paths::min_separation(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::SeriesLines::new().with_names([format!("{kind} min separation")]),
+    )
+    .map_err(log_err(&entity))
+}
+
+/// One line strip per drone in `strips` (scene index, points), in their colours.
+pub(crate) fn log_paths(
+    rec: &RecordingStream,
+    scene: &Scene,
+    kind: &str,
+    strips: &[(usize, Vec<[f32; 3]>)],
+) -> Result<(), VizError> {
+    if strips.is_empty() {
+        return Ok(());
+    }
+    let colors = strips.iter().map(|(i, _)| {
+        let rgb = scene.drone_color(&scene.drones[*i]);
+        style::color(if kind == "flight" {
+            style::flown(rgb)
+        } else {
+            rgb
+        })
+    });
+    let entity = paths::paths(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::LineStrips3D::new(strips.iter().map(|(_, s)| s.clone()))
+            .with_colors(colors)
+            .with_radii([style::line_radius_m(scene.voxel_size_m)]),
+    )
+    .map_err(log_err(&entity))
+}
