@@ -45,7 +45,8 @@ pub struct Args {
     /// Seed of sensor noise and packet-loss draws (each vehicle adds its system id).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// PX4: after offboard loss, hold this long, then land, seconds.
+    /// PX4: after offboard loss, hold this long, then land, seconds; `inf`
+    /// holds forever (PX4 with the offboard-loss action set to Hold).
     #[arg(long, default_value_t = 5.0)]
     pub offboard_loss_land_after_s: f64,
     /// MAVLink 2 signing key for all vehicles, 64 hex digits.
@@ -54,21 +55,34 @@ pub struct Args {
     /// Packet loss in percent: `10` for all vehicles or `SYSID:10` for one (repeatable).
     #[arg(long = "loss", value_name = "[SYSID:]PERCENT")]
     pub loss: Vec<String>,
+    /// Duplicated datagrams in percent, each direction: `5` for all or `SYSID:5` for one (repeatable).
+    #[arg(long = "duplicate", value_name = "[SYSID:]PERCENT")]
+    pub duplicate: Vec<String>,
+    /// Reordered datagrams in percent, each direction (held back 10–60 ms so
+    /// later ones overtake them): `5` for all or `SYSID:5` for one (repeatable).
+    #[arg(long = "reorder", value_name = "[SYSID:]PERCENT")]
+    pub reorder: Vec<String>,
     /// Added one-way latency in ms: `50` for all or `SYSID:50` for one (repeatable).
     #[arg(long = "latency-ms", value_name = "[SYSID:]MS")]
     pub latency_ms: Vec<String>,
     /// Slow drone: `SYSID:0.5` flies at half speed (repeatable).
     #[arg(long = "slow", value_name = "SYSID:FACTOR")]
     pub slow: Vec<String>,
-    /// Link drop: `SYSID@5s+3s` cuts the link 5 s after takeoff for 3 s (repeatable).
+    /// Link drop: `SYSID@5s+3s` cuts the link 5 s after takeoff for 3 s;
+    /// `SYSID@5s+inf` cuts it for good (repeatable).
     #[arg(long = "drop", value_name = "SYSID@AFTERs+FORs")]
     pub drop: Vec<String>,
     /// Refuse arming for this system id (repeatable).
     #[arg(long = "refuse-arm", value_name = "SYSID")]
     pub refuse_arm: Vec<u8>,
-    /// Low-battery failsafe: `SYSID@60s` goes critical after 60 s armed (repeatable).
+    /// Low-battery warning: `SYSID@60s` turns the battery LOW (warning
+    /// only, ≤ 25 %) after 60 s armed (repeatable).
     #[arg(long = "low-battery", value_name = "SYSID@SECONDSs")]
     pub low_battery: Vec<String>,
+    /// Critical-battery failsafe: `SYSID@90s` turns the battery CRITICAL
+    /// after 90 s armed: PX4 lands, ArduPilot returns and lands (repeatable).
+    #[arg(long = "critical-battery", value_name = "SYSID@SECONDSs")]
+    pub critical_battery: Vec<String>,
     /// Benchmark instead of serving: run this many seconds with an in-process
     /// ground station receiving all telemetry, then report CPU use and missed ticks.
     #[arg(long, value_name = "SECONDS")]
@@ -95,14 +109,26 @@ fn per_vehicle_number(spec: &str) -> anyhow::Result<(Option<u8>, f64)> {
     Ok((id, value))
 }
 
-/// Parses `5s`, `5` or `2.5s` as a duration.
+/// Parses `5s`, `5` or `2.5s` as a duration; `inf`, `never` or `forever`
+/// is [`Duration::MAX`].
 fn seconds(text: &str) -> anyhow::Result<Duration> {
-    let value: f64 = text
-        .trim()
+    let trimmed = text.trim();
+    if matches!(trimmed, "never" | "forever") {
+        return Ok(Duration::MAX);
+    }
+    let value: f64 = trimmed
         .trim_end_matches('s')
         .parse()
         .with_context(|| format!("bad duration {text:?}"))?;
-    Duration::try_from_secs_f64(value).with_context(|| format!("bad duration {text:?}"))
+    seconds_f64(value).with_context(|| format!("bad duration {text:?}"))
+}
+
+/// Seconds as a duration; +∞ is [`Duration::MAX`], negative or NaN is an error.
+fn seconds_f64(value: f64) -> anyhow::Result<Duration> {
+    if value == f64::INFINITY {
+        return Ok(Duration::MAX);
+    }
+    Ok(Duration::try_from_secs_f64(value)?)
 }
 
 /// Parses `SYSID@5s+3s`.
@@ -127,7 +153,7 @@ fn link_drop(spec: &str) -> anyhow::Result<(u8, LinkDrop)> {
 }
 
 /// Parses `SYSID@60s`.
-fn low_battery(spec: &str) -> anyhow::Result<(u8, Duration)> {
+fn battery_after(spec: &str) -> anyhow::Result<(u8, Duration)> {
     let (id, after) = spec
         .split_once('@')
         .with_context(|| format!("expected SYSID@SECONDSs, got {spec:?}"))?;
@@ -175,6 +201,19 @@ impl Args {
                 (None, percent) => faults.values_mut().for_each(|f| f.loss_percent = percent),
             }
         }
+        for (specs, what) in [(&self.duplicate, "duplicate"), (&self.reorder, "reorder")] {
+            for spec in specs {
+                let (id, percent) = per_vehicle_number(spec)?;
+                let set = |f: &mut Faults| match what {
+                    "duplicate" => f.duplicate_percent = percent,
+                    _ => f.reorder_percent = percent,
+                };
+                match id {
+                    Some(id) => set(fault(&mut faults, id, spec)?),
+                    None => faults.values_mut().for_each(set),
+                }
+            }
+        }
         for spec in &self.latency_ms {
             let (id, ms) = per_vehicle_number(spec)?;
             let latency = Duration::try_from_secs_f64(ms / 1000.0)
@@ -198,11 +237,15 @@ impl Args {
             fault(&mut faults, *id, "--refuse-arm")?.refuse_arm = true;
         }
         for spec in &self.low_battery {
-            let (id, after) = low_battery(spec)?;
+            let (id, after) = battery_after(spec)?;
             fault(&mut faults, id, spec)?.low_battery_after = Some(after);
         }
+        for spec in &self.critical_battery {
+            let (id, after) = battery_after(spec)?;
+            fault(&mut faults, id, spec)?.critical_battery_after = Some(after);
+        }
         let key = self.signing_key.as_deref().map(signing_key).transpose()?;
-        let land_after = Duration::try_from_secs_f64(self.offboard_loss_land_after_s)
+        let land_after = seconds_f64(self.offboard_loss_land_after_s)
             .context("bad --offboard-loss-land-after-s")?;
         ids.iter()
             .enumerate()
@@ -304,6 +347,16 @@ mod tests {
             "1",
             "--low-battery",
             "2@60s",
+            "--critical-battery",
+            "2@90s",
+            "--duplicate",
+            "5",
+            "--duplicate",
+            "3:20",
+            "--reorder",
+            "4:15",
+            "--offboard-loss-land-after-s",
+            "inf",
         ])?;
         assert_eq!(
             configs.iter().map(|c| c.port).collect::<Vec<_>>(),
@@ -333,7 +386,43 @@ mod tests {
             configs[1].faults.low_battery_after,
             Some(Duration::from_secs(60))
         );
+        assert_eq!(
+            configs[1].faults.critical_battery_after,
+            Some(Duration::from_secs(90))
+        );
+        assert_eq!(
+            configs
+                .iter()
+                .map(|c| c.faults.duplicate_percent)
+                .collect::<Vec<_>>(),
+            [5.0, 5.0, 20.0, 5.0]
+        );
+        assert_eq!(
+            configs
+                .iter()
+                .map(|c| c.faults.reorder_percent)
+                .collect::<Vec<_>>(),
+            [0.0, 0.0, 0.0, 15.0]
+        );
+        assert!(
+            configs
+                .iter()
+                .all(|c| c.offboard_loss_land_after == Duration::MAX)
+        );
         assert_eq!(configs[1].initial_position_ned_m, [0.0, 2.0, 0.0]);
+        Ok(())
+    }
+
+    #[test]
+    fn permanent_drops_parse_as_duration_max() -> anyhow::Result<()> {
+        for spec in ["1@2s+inf", "1@2s+never", "1@2+forever", "1@2s+infs"] {
+            let configs = parse(&["--drop", spec])?;
+            assert_eq!(
+                configs[0].faults.link_drop,
+                Some(LinkDrop::permanent(Duration::from_secs(2))),
+                "{spec}"
+            );
+        }
         Ok(())
     }
 
@@ -348,6 +437,12 @@ mod tests {
             &["--signing-key", "abcd"],
             &["--signing-key", "é"],
             &["--latency-ms", "-5"],
+            &["--drop", "1@1s+-inf"],
+            &["--drop", "1@1s+nan"],
+            &["--critical-battery", "1"],
+            &["--duplicate", "7:5"],
+            &["--reorder", "x"],
+            &["--offboard-loss-land-after-s", "-1"],
         ] {
             assert!(parse(line).is_err(), "{line:?} should be rejected");
         }

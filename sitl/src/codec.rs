@@ -172,6 +172,18 @@ mod tests {
     }
 
     #[test]
+    fn replayed_signed_frames_are_rejected() {
+        let ours = Signing::new([7; 32]);
+        let sender = Signing::new([7; 32]);
+        let frame = encode(header(), &heartbeat(), Some(&sender));
+        assert_eq!(decode(&frame, Some(&ours)).messages.len(), 1);
+        assert_eq!(
+            decode(&frame, Some(&ours)).rejected,
+            vec![Rejection::BadSignature]
+        );
+    }
+
+    #[test]
     fn arbitrary_bytes_never_panic() {
         let mut state = 0x1234_5678_u32;
         for len in 0..400 {

@@ -27,20 +27,44 @@ impl std::str::FromStr for Flavour {
 
 /// A link outage: starts `after_takeoff` after the vehicle is first airborne
 /// and lasts `duration`. Both directions are cut, as with a real radio dropout.
+/// `duration: Duration::MAX` is a permanent loss: the link never comes back.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LinkDrop {
     /// Delay from the first moment the vehicle is airborne to the cut.
     pub after_takeoff: Duration,
-    /// How long the link stays cut.
+    /// How long the link stays cut; [`Duration::MAX`] (or anything longer
+    /// than the flight) means for good.
     pub duration: Duration,
 }
+
+impl LinkDrop {
+    /// A link that is cut `after_takeoff` after the vehicle is first airborne
+    /// and never comes back.
+    pub fn permanent(after_takeoff: Duration) -> Self {
+        Self {
+            after_takeoff,
+            duration: Duration::MAX,
+        }
+    }
+}
+
+/// Largest latency fault accepted (larger values are almost certainly a unit mistake).
+pub const MAX_LATENCY: Duration = Duration::from_secs(3600);
 
 /// Faults injected into one vehicle. `Faults::default()` is a healthy vehicle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Faults {
     /// Share of packets dropped, in percent (0–100), independently in each direction.
     pub loss_percent: f64,
-    /// Latency added to each direction (so round trips grow by twice this).
+    /// Share of datagrams delivered twice, in percent (0–100), independently
+    /// in each direction (counted in `LinkStats::{rx,tx}_duplicated`).
+    pub duplicate_percent: f64,
+    /// Share of datagrams held back by a random 10–60 ms so later ones
+    /// overtake them, in percent (0–100), independently in each direction
+    /// (counted in `LinkStats::{rx,tx}_reordered`).
+    pub reorder_percent: f64,
+    /// Latency added to each direction (so round trips grow by twice this);
+    /// at most [`MAX_LATENCY`].
     pub latency: Duration,
     /// Multiplies the vehicle's speed limit: 0.5 flies at most half as fast (a slow drone).
     pub speed_factor: f64,
@@ -48,20 +72,29 @@ pub struct Faults {
     pub link_drop: Option<LinkDrop>,
     /// Arming is denied (COMMAND_ACK DENIED plus a STATUSTEXT reason).
     pub refuse_arm: bool,
-    /// After this much armed time the battery turns critical and the vehicle
-    /// lands (PX4) or returns and lands (ArduPilot).
+    /// After this much armed time the battery turns LOW: a warning only
+    /// (battery_remaining at most 25 %, BATTERY_STATUS charge state LOW,
+    /// STATUSTEXT WARNING "Low battery…"); the vehicle keeps flying.
     pub low_battery_after: Option<Duration>,
+    /// After this much armed time the battery turns CRITICAL
+    /// (battery_remaining at most 8 %, charge state CRITICAL, STATUSTEXT
+    /// CRITICAL) and the failsafe fires: PX4 lands, ArduPilot returns and
+    /// lands; arming is refused afterwards. Critical implies low.
+    pub critical_battery_after: Option<Duration>,
 }
 
 impl Default for Faults {
     fn default() -> Self {
         Self {
             loss_percent: 0.0,
+            duplicate_percent: 0.0,
+            reorder_percent: 0.0,
             latency: Duration::ZERO,
             speed_factor: 1.0,
             link_drop: None,
             refuse_arm: false,
             low_battery_after: None,
+            critical_battery_after: None,
         }
     }
 }
@@ -70,10 +103,19 @@ impl Faults {
     /// Checks the knobs are in range; `system_id` only labels the error.
     pub fn validate(&self, system_id: u8) -> Result<(), SitlError> {
         let bad = |reason: String| SitlError::InvalidFault { system_id, reason };
-        if !(0.0..=100.0).contains(&self.loss_percent) {
+        for (what, percent) in [
+            ("loss", self.loss_percent),
+            ("duplicate", self.duplicate_percent),
+            ("reorder", self.reorder_percent),
+        ] {
+            if !(0.0..=100.0).contains(&percent) {
+                return Err(bad(format!("{what} {percent}% is not in 0..=100")));
+            }
+        }
+        if self.latency > MAX_LATENCY {
             return Err(bad(format!(
-                "loss {}% is not in 0..=100",
-                self.loss_percent
+                "latency {:?} is longer than {MAX_LATENCY:?}",
+                self.latency
             )));
         }
         if !(self.speed_factor.is_finite() && self.speed_factor > 0.0 && self.speed_factor <= 10.0)
@@ -88,7 +130,7 @@ impl Faults {
 }
 
 /// Everything that defines one mock vehicle.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct VehicleConfig {
     /// MAVLink system id (1–255); the autopilot is always component 1.
     pub system_id: u8,
@@ -114,7 +156,11 @@ pub struct VehicleConfig {
     pub seed: u64,
     /// Also stream everything to this UDP port on the bind address (a ground station).
     pub gcs_stream_port: Option<u16>,
-    /// PX4 only: after offboard loss the vehicle holds, then lands after this long.
+    /// PX4 only: after offboard loss the vehicle holds, then lands after this
+    /// long. [`Duration::MAX`] holds forever (PX4 with the offboard-loss
+    /// action set to Hold). ArduPilot has no such timer: in GUIDED it keeps
+    /// flying to its last position target (or stops after a velocity target
+    /// times out) and holds there.
     pub offboard_loss_land_after: Duration,
 }
 
@@ -144,5 +190,54 @@ impl VehicleConfig {
         self.initial_position_ned_m = initial_position_ned_m;
         self.home = origin.offset_ned(initial_position_ned_m.map(f64::from));
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_faults_are_healthy_and_valid() {
+        let faults = Faults::default();
+        assert!(faults.validate(1).is_ok());
+        assert_eq!(faults.duplicate_percent, 0.0);
+        assert_eq!(faults.reorder_percent, 0.0);
+        assert_eq!(faults.low_battery_after, None);
+        assert_eq!(faults.critical_battery_after, None);
+    }
+
+    #[test]
+    fn validate_rejects_out_of_range_knobs_and_accepts_forever() {
+        for bad in [
+            Faults {
+                duplicate_percent: 100.5,
+                ..Faults::default()
+            },
+            Faults {
+                reorder_percent: -1.0,
+                ..Faults::default()
+            },
+            Faults {
+                reorder_percent: f64::NAN,
+                ..Faults::default()
+            },
+            Faults {
+                latency: Duration::MAX,
+                ..Faults::default()
+            },
+        ] {
+            assert!(bad.validate(3).is_err(), "{bad:?}");
+        }
+        let forever = Faults {
+            duplicate_percent: 100.0,
+            reorder_percent: 100.0,
+            latency: MAX_LATENCY,
+            link_drop: Some(LinkDrop::permanent(Duration::MAX)),
+            low_battery_after: Some(Duration::MAX),
+            critical_battery_after: Some(Duration::MAX),
+            ..Faults::default()
+        };
+        assert!(forever.validate(3).is_ok());
     }
 }

@@ -89,7 +89,9 @@ pub struct VehicleSnapshot {
     pub landed_state: MavLandedState,
     /// Battery charge, percent.
     pub battery_remaining_pct: f32,
-    /// The low-battery failsafe has fired.
+    /// The low-battery warning has fired (also true once critical).
+    pub battery_low: bool,
+    /// The critical-battery failsafe has fired.
     pub battery_critical: bool,
     /// An injected link drop is active.
     pub link_down: bool,
@@ -199,48 +201,55 @@ async fn start_vehicle(
     let socket = UdpSocket::bind(address).await.map_err(bind_error)?;
     let local_address = socket.local_addr().map_err(bind_error)?;
     let socket = Arc::new(socket);
-    let latency = config.faults.latency;
     let mut tasks = Vec::new();
-    let (tx_queue, tx_receiver) = if latency.is_zero() {
-        (None, None)
-    } else {
+    let delayed = link::needs_delay_queue(&config.faults);
+    let (tx_queue, tx_receiver) = if delayed {
         let (s, r) = mpsc::unbounded_channel();
         (Some(s), Some(r))
+    } else {
+        (None, None)
     };
     let link = Arc::new(Link::new(
         system_id,
         socket,
         local_address,
         config.gcs_stream_port.map(|p| gcs_address(bind_ip, p)),
-        config.faults.loss_percent,
-        latency,
+        &config.faults,
         config.seed,
         config.signing_key,
         tx_queue,
     ));
     if let Some(receiver) = tx_receiver {
-        tasks.push(tokio::spawn(link.clone().run_delayed_tx(receiver)));
+        let sender = link.clone();
+        tasks.push(tokio::spawn(link::run_delay_queue(
+            receiver,
+            move |bytes, addresses| sender.send_now(&bytes, &addresses),
+        )));
     }
     let cell = Arc::new(VehicleCell {
         vehicle: Mutex::new(Vehicle::new(config, telemetry_rate_hz)),
         link,
     });
-    if latency.is_zero() {
-        tasks.push(tokio::spawn(run_receiver(cell.clone(), None)));
-    } else {
-        let (s, mut r) = mpsc::unbounded_channel();
+    if delayed {
+        let (s, r) = mpsc::unbounded_channel();
         tasks.push(tokio::spawn(run_receiver(cell.clone(), Some(s))));
         let delayed_cell = cell.clone();
-        tasks.push(tokio::spawn(async move {
-            while let Some((bytes, from)) = link::next_delayed(&mut r).await {
-                deliver(&delayed_cell, &bytes, from);
-            }
-        }));
+        tasks.push(tokio::spawn(link::run_delay_queue(
+            r,
+            move |bytes, addresses| {
+                if let Some(from) = addresses.first() {
+                    deliver(&delayed_cell, &bytes, *from);
+                }
+            },
+        )));
+    } else {
+        tasks.push(tokio::spawn(run_receiver(cell.clone(), None)));
     }
     Ok((cell, tasks))
 }
 
-/// Receives datagrams forever, applying loss/drop, then latency, then delivery.
+/// Receives datagrams forever, applying loss/drop, duplication, then
+/// latency and reordering, then delivery.
 async fn run_receiver(
     cell: Arc<VehicleCell>,
     delay_queue: Option<mpsc::UnboundedSender<link::Delayed>>,
@@ -259,12 +268,13 @@ async fn run_receiver(
         let Some(bytes) = buffer.get(..len) else {
             continue;
         };
-        if !cell.link.admit_incoming() {
-            continue;
-        }
-        match &delay_queue {
-            Some(queue) => link::delay_incoming(queue, cell.link.latency, bytes.to_vec(), from),
-            None => deliver(&cell, bytes, from),
+        for delay in cell.link.admit_incoming().into_iter().flatten() {
+            match &delay_queue {
+                Some(queue) if !delay.is_zero() => {
+                    link::delay_incoming(queue, delay, bytes.to_vec(), from);
+                }
+                _ => deliver(&cell, bytes, from),
+            }
         }
     }
 }
@@ -359,6 +369,7 @@ impl Swarm {
             landed: v.landed(),
             landed_state: v.landed_state(),
             battery_remaining_pct: v.battery_pct,
+            battery_low: v.battery_low,
             battery_critical: v.battery_critical,
             link_down: v.link_down(),
             time_s: v.time_s,

@@ -295,7 +295,7 @@ impl Vehicle {
         voltages[0] = self.battery_voltage_mv();
         let charge_state = if self.battery_critical {
             MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_CRITICAL
-        } else if self.battery_pct < 20.0 {
+        } else if self.battery_low || self.battery_pct <= crate::vehicle::LOW_BATTERY_PCT {
             MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_LOW
         } else {
             MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_OK

@@ -16,6 +16,7 @@ use mavlink::dialects::common::{MavMessage, MavSeverity, STATUSTEXT_DATA};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
+use std::time::Duration;
 
 /// Setpoints must have arrived within this window, at least
 /// [`OFFBOARD_MIN_SETPOINTS`] of them, for OFFBOARD to be accepted (> 2 Hz).
@@ -38,8 +39,21 @@ const RTL_OVER_HOME_M: f32 = 0.3;
 const AIRBORNE_HEIGHT_M: f32 = 0.1;
 /// Battery drain while armed, percent per second (a ~30 minute pack).
 const BATTERY_DRAIN_PCT_PER_S: f32 = 0.05;
-/// Charge reported once the low-battery fault fires, percent.
-const CRITICAL_BATTERY_PCT: f32 = 8.0;
+/// Charge reported (at most) once the low-battery fault fires, percent.
+pub const LOW_BATTERY_PCT: f32 = 25.0;
+/// Charge reported (at most) once the critical-battery fault fires, percent.
+pub const CRITICAL_BATTERY_PCT: f32 = 8.0;
+
+/// A fault or timeout duration in seconds; [`Duration::MAX`] means never
+/// (+∞), not "in 584 billion years". No `Instant` arithmetic is involved, so
+/// nothing can overflow.
+fn seconds_or_never(duration: Duration) -> f64 {
+    if duration == Duration::MAX {
+        f64::INFINITY
+    } else {
+        duration.as_secs_f64()
+    }
+}
 
 /// A position/velocity target received over MAVLink, with its arrival time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,7 +64,9 @@ pub struct ExternalTarget {
     pub received_s: f64,
 }
 
-/// One mock autopilot's complete state.
+/// One mock autopilot's complete state. `Clone` and `PartialEq` let tests
+/// check that a message left the state exactly as it was.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Vehicle {
     /// MAVLink system id.
     pub(crate) system_id: u8,
@@ -94,7 +110,9 @@ pub struct Vehicle {
     velocity_timed_out: bool,
     /// Battery state of charge, percent.
     pub(crate) battery_pct: f32,
-    /// The low-battery failsafe fired.
+    /// The low-battery warning fired (also set by a critical battery).
+    pub(crate) battery_low: bool,
+    /// The critical-battery failsafe fired.
     pub(crate) battery_critical: bool,
     /// Parameter table.
     pub(crate) params: Params,
@@ -139,6 +157,7 @@ impl Vehicle {
             offboard_lost_since_s: None,
             velocity_timed_out: false,
             battery_pct: 100.0,
+            battery_low: false,
             battery_critical: false,
             params: Params::for_vehicle(&config),
             streams: Streams::new(config.seed, telemetry_rate_hz),
@@ -146,6 +165,59 @@ impl Vehicle {
             noise: ChaCha8Rng::seed_from_u64(config.seed),
             config,
         }
+    }
+
+    /// True position, shared local NED frame, metres.
+    pub fn position_ned_m(&self) -> [f32; 3] {
+        self.body.position_ned_m
+    }
+
+    /// True velocity, NED, m/s.
+    pub fn velocity_ned_mps(&self) -> [f32; 3] {
+        self.body.velocity_ned_mps
+    }
+
+    /// Heading, radians from north.
+    pub fn yaw_rad(&self) -> f32 {
+        self.body.yaw_rad
+    }
+
+    /// Motors armed.
+    pub fn armed(&self) -> bool {
+        self.armed
+    }
+
+    /// Current flight mode.
+    pub fn mode(&self) -> FlightMode {
+        self.mode
+    }
+
+    /// Simulated time since boot, seconds.
+    pub fn time_s(&self) -> f64 {
+        self.time_s
+    }
+
+    /// Battery charge, percent.
+    pub fn battery_pct(&self) -> f32 {
+        self.battery_pct
+    }
+
+    /// Whether every number of the physical state is finite (position,
+    /// velocity, acceleration, yaw, battery, time).
+    pub fn state_is_finite(&self) -> bool {
+        let b = &self.body;
+        b.position_ned_m
+            .iter()
+            .chain(&b.velocity_ned_mps)
+            .chain(&b.accel_ned_mps2)
+            .chain([&b.yaw_rad, &b.ground_down_m, &self.battery_pct])
+            .all(|v| v.is_finite())
+            && self.time_s.is_finite()
+    }
+
+    /// Takes the messages the vehicle wants to send (replies and telemetry).
+    pub fn take_outbox(&mut self) -> Vec<MavMessage> {
+        std::mem::take(&mut self.outbox)
     }
 
     /// Whether the vehicle is resting on the ground (landed detection).
@@ -162,8 +234,9 @@ impl Vehicle {
     pub fn link_down(&self) -> bool {
         match (self.config.faults.link_drop, self.first_airborne_s) {
             (Some(drop), Some(airborne_s)) => {
-                let start_s = airborne_s + drop.after_takeoff.as_secs_f64();
-                (start_s..start_s + drop.duration.as_secs_f64()).contains(&self.time_s)
+                let start_s = airborne_s + seconds_or_never(drop.after_takeoff);
+                let end_s = start_s + seconds_or_never(drop.duration);
+                (start_s..end_s).contains(&self.time_s)
             }
             _ => false,
         }
@@ -273,15 +346,32 @@ impl Vehicle {
         }));
     }
 
-    /// Low-battery fault: turns the battery critical and starts the flavour's failsafe.
+    /// Battery faults: LOW is a warning; CRITICAL starts the flavour's failsafe.
     fn check_battery(&mut self) {
-        let Some(after) = self.config.faults.low_battery_after else {
-            return;
-        };
-        if self.battery_critical || !self.armed || self.armed_time_s < after.as_secs_f64() {
+        if !self.armed {
             return;
         }
+        let faults = &self.config.faults;
+        let reached = |after: Option<Duration>| {
+            after.is_some_and(|after| self.armed_time_s >= seconds_or_never(after))
+        };
+        if !self.battery_critical && reached(faults.critical_battery_after) {
+            self.battery_critical_now();
+        } else if !self.battery_low && reached(faults.low_battery_after) {
+            self.battery_low = true;
+            self.battery_pct = self.battery_pct.min(LOW_BATTERY_PCT);
+            let text = match self.flavour {
+                Flavour::Px4 => "Low battery level! Return advised",
+                Flavour::ArduPilot => "Low battery: Battery 1 is low",
+            };
+            self.status_text(MavSeverity::MAV_SEVERITY_WARNING, text);
+        }
+    }
+
+    /// Turns the battery critical and starts the flavour's failsafe.
+    fn battery_critical_now(&mut self) {
         self.battery_critical = true;
+        self.battery_low = true;
         self.battery_pct = self.battery_pct.min(CRITICAL_BATTERY_PCT);
         if self.landed() {
             self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, "Battery critical");
@@ -348,7 +438,7 @@ impl Vehicle {
             }
             FlightMode::Hold => {
                 if let Some(since) = self.offboard_lost_since_s
-                    && self.time_s - since > self.config.offboard_loss_land_after.as_secs_f64()
+                    && self.time_s - since > seconds_or_never(self.config.offboard_loss_land_after)
                 {
                     self.status_text(
                         MavSeverity::MAV_SEVERITY_WARNING,

@@ -1,6 +1,7 @@
 //! Mode-logic tests: a `Vehicle` driven message by message, without sockets.
 
-use crate::config::{Faults, Flavour, VehicleConfig};
+use crate::config::{Faults, Flavour, LinkDrop, VehicleConfig};
+use crate::dynamics::norm;
 use crate::mode::FlightMode;
 use crate::vehicle::Vehicle;
 use mavlink::MavHeader;
@@ -298,20 +299,76 @@ fn ardupilot_takeoff_only_in_guided_and_armed_then_targets_and_velocity_timeout(
     assert_eq!(arm(&mut v), MavResult::MAV_RESULT_DENIED);
 }
 
+fn status_texts(v: &Vehicle) -> Vec<(MavSeverity, String)> {
+    v.outbox
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::STATUSTEXT(t) => Some((t.severity, t.text.to_str().ok()?.to_owned())),
+            _ => None,
+        })
+        .collect()
+}
+
+fn sys_status_remaining(v: &mut Vehicle) -> i8 {
+    match v.build_message(1) {
+        Some(MavMessage::SYS_STATUS(s)) => s.battery_remaining,
+        other => panic!("SYS_STATUS expected, got {other:?}"),
+    }
+}
+
+fn charge_state(v: &mut Vehicle) -> MavBatteryChargeState {
+    match v.build_message(147) {
+        Some(MavMessage::BATTERY_STATUS(b)) => b.charge_state,
+        other => panic!("BATTERY_STATUS expected, got {other:?}"),
+    }
+}
+
 #[test]
-fn low_battery_lands_px4_and_returns_ardupilot() {
+fn low_battery_only_warns_then_critical_lands_px4_and_returns_ardupilot() {
     let faults = Faults {
-        low_battery_after: Some(Duration::from_secs(8)),
+        low_battery_after: Some(Duration::from_secs(4)),
+        critical_battery_after: Some(Duration::from_secs(8)),
         ..Faults::default()
     };
     let mut px4 = vehicle(Flavour::Px4, faults.clone());
+    assert_eq!(sys_status_remaining(&mut px4), 100);
     arm(&mut px4);
     command(&mut px4, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7);
-    run(&mut px4, 7.9);
-    assert!(!px4.battery_critical && px4.mode == FlightMode::Hold);
+    px4.outbox.clear();
+    run(&mut px4, 3.9);
+    assert!(!px4.battery_low);
+    assert_eq!(
+        charge_state(&mut px4),
+        MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_OK
+    );
+    assert!(status_texts(&px4).is_empty());
     run(&mut px4, 0.2);
+    // LOW: a warning, nothing else changes.
+    assert!(px4.battery_low && !px4.battery_critical);
+    assert_eq!(px4.mode, FlightMode::Hold);
+    assert!(sys_status_remaining(&mut px4) <= 25);
+    assert_eq!(
+        charge_state(&mut px4),
+        MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_LOW
+    );
+    let texts = status_texts(&px4);
+    assert_eq!(texts.len(), 1, "{texts:?}");
+    assert_eq!(texts[0].0, MavSeverity::MAV_SEVERITY_WARNING);
+    assert!(texts[0].1.starts_with("Low battery"), "{texts:?}");
+    run(&mut px4, 3.7);
+    assert!(!px4.battery_critical && px4.mode == FlightMode::Hold);
+    assert_eq!(status_texts(&px4).len(), 1, "the warning is sent once");
+    run(&mut px4, 0.3);
     assert!(px4.battery_critical);
     assert_eq!(px4.mode, FlightMode::Land);
+    assert!(sys_status_remaining(&mut px4) <= 8);
+    assert_eq!(
+        charge_state(&mut px4),
+        MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_CRITICAL
+    );
+    assert!(status_texts(&px4).iter().any(|(severity, text)| {
+        *severity == MavSeverity::MAV_SEVERITY_CRITICAL && text.contains("Critical battery")
+    }));
 
     let mut ap = vehicle(Flavour::ArduPilot, faults);
     set_mode(&mut ap, 4.0, 0.0);
@@ -321,10 +378,152 @@ fn low_battery_lands_px4_and_returns_ardupilot() {
         MavCmd::MAV_CMD_NAV_TAKEOFF,
         [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0],
     );
-    run(&mut ap, 8.1);
+    run(&mut ap, 4.1);
+    assert!(ap.battery_low && !ap.battery_critical);
+    assert_eq!(ap.mode, FlightMode::Guided, "a low battery does not RTL");
+    run(&mut ap, 4.0);
     assert!(ap.battery_critical);
     assert_eq!(ap.mode, FlightMode::ReturnToLaunch);
     assert_eq!(ap.custom_mode(), 6);
+}
+
+#[test]
+fn critical_battery_alone_is_todays_failsafe_and_blocks_arming() {
+    let faults = Faults {
+        critical_battery_after: Some(Duration::from_secs(2)),
+        ..Faults::default()
+    };
+    let mut v = vehicle(Flavour::Px4, faults);
+    arm(&mut v);
+    command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7);
+    run(&mut v, 2.1);
+    assert!(v.battery_critical && v.battery_low);
+    assert_eq!(v.mode, FlightMode::Land);
+    run(&mut v, 15.0);
+    assert!(!v.armed, "landed and disarmed");
+    assert_eq!(arm(&mut v), MavResult::MAV_RESULT_DENIED);
+}
+
+#[test]
+fn low_battery_alone_never_lands_and_arming_stays_allowed() {
+    let faults = Faults {
+        low_battery_after: Some(Duration::from_secs(1)),
+        ..Faults::default()
+    };
+    let mut v = vehicle(Flavour::Px4, faults);
+    arm(&mut v);
+    command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7);
+    run(&mut v, 20.0);
+    assert!(v.battery_low && !v.battery_critical);
+    assert_eq!(v.mode, FlightMode::Hold);
+    assert!(v.airborne());
+    command(&mut v, MavCmd::MAV_CMD_NAV_LAND, NAN7);
+    run(&mut v, 15.0);
+    assert!(!v.armed);
+    assert_eq!(arm(&mut v), MavResult::MAV_RESULT_ACCEPTED);
+}
+
+#[test]
+fn sys_status_reports_battery_remaining_draining_from_100() {
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    run(&mut v, 5.0);
+    assert_eq!(sys_status_remaining(&mut v), 100, "no drain while disarmed");
+    arm(&mut v);
+    command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7);
+    let mut last = 100;
+    for _ in 0..6 {
+        run(&mut v, 20.0);
+        let now = sys_status_remaining(&mut v);
+        assert!(
+            (0..=100).contains(&now) && now <= last,
+            "{now} after {last}"
+        );
+        last = now;
+    }
+    assert!(last < 100, "drains while armed: {last}");
+}
+
+#[test]
+fn offboard_loss_hold_forever_with_duration_max() {
+    let mut config = VehicleConfig::new(1, Flavour::Px4);
+    config.offboard_loss_land_after = Duration::MAX;
+    let mut v = Vehicle::new(config, 20.0);
+    arm(&mut v);
+    for _ in 0..10 {
+        position_target(&mut v, [0.0, 0.0, -3.0]);
+        run(&mut v, 0.1);
+    }
+    assert_eq!(set_mode(&mut v, 6.0, 0.0), MavResult::MAV_RESULT_ACCEPTED);
+    for _ in 0..50 {
+        position_target(&mut v, [0.0, 0.0, -3.0]);
+        run(&mut v, 0.1);
+    }
+    run(&mut v, 1.5);
+    assert_eq!(v.mode, FlightMode::Hold);
+    run(&mut v, 120.0);
+    assert_eq!(v.mode, FlightMode::Hold, "holds for good");
+    assert!(v.armed && (v.body.height_m() - 3.0).abs() < 0.1);
+}
+
+#[test]
+fn ardupilot_guided_holds_when_the_setpoint_stream_stops() {
+    let mut v = vehicle(Flavour::ArduPilot, Faults::default());
+    set_mode(&mut v, 4.0, 0.0);
+    arm(&mut v);
+    command(
+        &mut v,
+        MavCmd::MAV_CMD_NAV_TAKEOFF,
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0],
+    );
+    run(&mut v, 5.0);
+    position_target(&mut v, [4.0, 0.0, -3.0]);
+    run(&mut v, 60.0);
+    assert_eq!(v.mode, FlightMode::Guided, "no failsafe: FS_GCS_ENABLE = 0");
+    assert!(v.armed);
+    let p = v.body.position_ned_m;
+    assert!(
+        (p[0] - 4.0).abs() < 0.1 && (p[2] + 3.0).abs() < 0.1,
+        "holds at the last target: {p:?}"
+    );
+    // A velocity target times out after 3 s and the vehicle stops there.
+    velocity_target(&mut v, [1.0, 0.0, 0.0]);
+    run(&mut v, 60.0);
+    assert_eq!(v.mode, FlightMode::Guided);
+    assert!(v.body.position_ned_m[0] < 4.0 + 3.5 + 1.0, "stopped");
+    assert!(norm(v.body.velocity_ned_mps) < 0.01);
+}
+
+#[test]
+fn permanent_link_drop_never_comes_back() {
+    let faults = Faults {
+        link_drop: Some(LinkDrop::permanent(Duration::from_secs(1))),
+        ..Faults::default()
+    };
+    let mut v = vehicle(Flavour::Px4, faults);
+    arm(&mut v);
+    command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7);
+    run(&mut v, 0.5);
+    assert!(v.first_airborne_s.is_some() && !v.link_down());
+    run(&mut v, 1.0);
+    assert!(v.link_down());
+    for time_s in [1e3, 1e9, 1e15, f64::from(f32::MAX)] {
+        v.time_s = time_s;
+        assert!(v.link_down(), "down at {time_s} s");
+    }
+    // Both fields at their maximum: still no overflow, and never down.
+    let mut late = vehicle(
+        Flavour::Px4,
+        Faults {
+            link_drop: Some(LinkDrop {
+                after_takeoff: Duration::MAX,
+                duration: Duration::MAX,
+            }),
+            ..Faults::default()
+        },
+    );
+    late.first_airborne_s = Some(0.0);
+    late.time_s = 1e12;
+    assert!(!late.link_down());
 }
 
 #[test]

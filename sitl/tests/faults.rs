@@ -5,9 +5,11 @@ mod common;
 
 use common::*;
 use mavlink::dialects::common::{
-    MavBatteryChargeState, MavCmd, MavMessage, MavResult, TIMESYNC_DATA,
+    COMMAND_LONG_DATA, MavBatteryChargeState, MavCmd, MavMessage, MavResult, MavSeverity,
+    TIMESYNC_DATA,
 };
 use std::time::Duration;
+use swarmctl_sitl::forge::{self, Signature};
 use swarmctl_sitl::{Faults, Flavour, FlightMode, LinkDrop, VehicleConfig, spawn};
 use tokio::time::{Instant, sleep};
 
@@ -226,22 +228,61 @@ async fn refuse_arm_is_denied_with_a_reason_on_the_wire() {
 }
 
 #[tokio::test]
-async fn low_battery_reports_critical_and_lands() {
+async fn low_battery_warns_then_critical_battery_lands() {
     let faults = Faults {
-        low_battery_after: Some(Duration::from_secs(3)),
+        low_battery_after: Some(Duration::from_secs(2)),
+        critical_battery_after: Some(Duration::from_secs(5)),
         ..Faults::default()
     };
     let swarm = spawn(LOOPBACK, px4_with(faults), 100.0, 20.0)
         .await
         .expect("spawn");
     let client = Client::connect(swarm.addresses()[0], 1).await;
+    let first_remaining = client
+        .recv_until(Duration::from_secs(3), |_, m| match m {
+            MavMessage::SYS_STATUS(s) => Some(s.battery_remaining),
+            _ => None,
+        })
+        .await;
+    assert_eq!(first_remaining, Some(100), "a full battery at boot");
     assert_eq!(client.arm().await, Some(MavResult::MAV_RESULT_ACCEPTED));
     assert_eq!(
         client.command(MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7).await,
         Some(MavResult::MAV_RESULT_ACCEPTED)
     );
+    // Stage 1: LOW — a warning, the vehicle keeps flying its mode.
+    let warning = client
+        .recv_until(Duration::from_secs(4), |_, m| match m {
+            MavMessage::STATUSTEXT(t) => Some((t.severity, t.text.to_str().ok()?.to_owned())),
+            _ => None,
+        })
+        .await;
+    let (severity, text) = warning.expect("a STATUSTEXT for the low battery");
+    assert_eq!(severity, MavSeverity::MAV_SEVERITY_WARNING);
+    assert!(text.starts_with("Low battery"), "{text}");
+    let (mut saw_low_sys_status, mut saw_low_charge) = (false, false);
+    client
+        .recv_until(Duration::from_millis(1500), |_, m| {
+            match m {
+                MavMessage::SYS_STATUS(s) => saw_low_sys_status |= s.battery_remaining <= 25,
+                MavMessage::BATTERY_STATUS(b) => {
+                    saw_low_charge |=
+                        b.charge_state == MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_LOW;
+                }
+                _ => {}
+            }
+            (saw_low_sys_status && saw_low_charge).then_some(())
+        })
+        .await;
+    assert!(saw_low_sys_status, "SYS_STATUS battery_remaining <= 25 %");
+    assert!(saw_low_charge, "BATTERY_STATUS charge state LOW");
+    let snapshot = swarm.snapshot(0);
+    assert!(snapshot.battery_low && !snapshot.battery_critical);
+    assert!(snapshot.armed);
+    assert_ne!(snapshot.mode, FlightMode::Land, "a low battery only warns");
+    // Stage 2: CRITICAL — PX4 lands.
     let critical = client
-        .recv_until(Duration::from_secs(6), |_, m| match m {
+        .recv_until(Duration::from_secs(5), |_, m| match m {
             MavMessage::BATTERY_STATUS(b)
                 if b.charge_state == MavBatteryChargeState::MAV_BATTERY_CHARGE_STATE_CRITICAL =>
             {
@@ -258,7 +299,178 @@ async fn low_battery_reports_critical_and_lands() {
         })
         .await;
     assert!(landing.is_some(), "heartbeat shows AUTO.LAND");
-    assert_eq!(swarm.snapshot(0).mode, FlightMode::Land);
+    let snapshot = swarm.snapshot(0);
+    assert_eq!(snapshot.mode, FlightMode::Land);
+    assert!(snapshot.battery_critical && snapshot.battery_remaining_pct <= 8.0);
+    swarm.shutdown().await;
+}
+
+#[tokio::test]
+async fn duplicates_are_delivered_twice_and_counted() {
+    let swarm = spawn(
+        LOOPBACK,
+        px4_with(Faults {
+            duplicate_percent: 40.0,
+            ..Faults::default()
+        }),
+        100.0,
+        50.0,
+    )
+    .await
+    .expect("spawn");
+    let client = Client::connect(swarm.addresses()[0], 1).await;
+    const SENT: u64 = 60;
+    for _ in 1..SENT {
+        client.send(&gcs_heartbeat()).await;
+    }
+    let messages = client.collect(Duration::from_secs(2)).await;
+    // Outgoing: a duplicate carries the same sequence number as its original.
+    let mut seen = std::collections::HashMap::new();
+    for (_, header, message) in &messages {
+        if matches!(message, MavMessage::LOCAL_POSITION_NED(_)) {
+            *seen.entry(header.sequence).or_insert(0u32) += 1;
+        }
+    }
+    let twice = seen.values().filter(|n| **n >= 2).count();
+    assert!(
+        (15..=70).contains(&twice),
+        "{twice} of {} positions arrived twice",
+        seen.len()
+    );
+    // Incoming: every heartbeat arrives, some twice; no loss.
+    let stats = swarm.snapshot(0).link;
+    assert_eq!(stats.rx_datagrams, SENT, "{stats:?}");
+    assert!((10..=40).contains(&stats.rx_duplicated), "{stats:?}");
+    assert_eq!(stats.rx_messages, SENT + stats.rx_duplicated, "{stats:?}");
+    assert!(stats.tx_duplicated >= twice as u64, "{stats:?}");
+    assert_eq!(stats.rx_dropped_by_fault + stats.tx_dropped_by_fault, 0);
+    swarm.shutdown().await;
+}
+
+/// Pairs of consecutive items whose sequence numbers go backwards (mod 256).
+fn backward_steps(sequences: &[u8]) -> usize {
+    sequences
+        .windows(2)
+        .filter(|w| (w[1].wrapping_sub(w[0]) as i8) < 0)
+        .count()
+}
+
+#[tokio::test]
+async fn reordering_lets_later_datagrams_overtake_in_both_directions() {
+    let swarm = spawn(
+        LOOPBACK,
+        px4_with(Faults {
+            reorder_percent: 30.0,
+            ..Faults::default()
+        }),
+        100.0,
+        50.0,
+    )
+    .await
+    .expect("spawn");
+    let client = Client::connect(swarm.addresses()[0], 1).await;
+    sleep(Duration::from_millis(200)).await;
+    // Outgoing: telemetry sequence numbers arrive out of order.
+    let arrived: Vec<u8> = client
+        .collect(Duration::from_secs(2))
+        .await
+        .iter()
+        .map(|(_, header, _)| header.sequence)
+        .collect();
+    assert!(arrived.len() > 150, "{} messages", arrived.len());
+    let backwards = backward_steps(&arrived);
+    assert!(backwards >= 5, "{backwards} out-of-order arrivals");
+    // Incoming: TIMESYNC requests 1..=80, 3 ms apart. The vehicle numbers its
+    // replies as it handles them, so sorted by request, the reply sequence
+    // numbers go backwards wherever a request was overtaken.
+    const REQUESTS: i64 = 80;
+    for ts1 in 1..=REQUESTS {
+        client
+            .send(&MavMessage::TIMESYNC(TIMESYNC_DATA {
+                tc1: 0,
+                ts1,
+                target_system: 1,
+                target_component: 1,
+            }))
+            .await;
+        sleep(Duration::from_millis(3)).await;
+    }
+    let mut replies = std::collections::BTreeMap::new();
+    client
+        .recv_until(Duration::from_secs(1), |header, m| {
+            if let MavMessage::TIMESYNC(t) = m
+                && t.tc1 != 0
+            {
+                replies.insert(t.ts1, header.sequence);
+            }
+            (replies.len() as i64 == REQUESTS).then_some(())
+        })
+        .await;
+    assert_eq!(
+        replies.len() as i64,
+        REQUESTS,
+        "every request answered once"
+    );
+    let handled: Vec<u8> = replies.values().copied().collect();
+    assert!(backward_steps(&handled) >= 2, "{handled:?}");
+    let stats = swarm.snapshot(0).link;
+    assert!(
+        stats.rx_reordered >= 5 && stats.tx_reordered >= 20,
+        "{stats:?}"
+    );
+    swarm.shutdown().await;
+}
+
+#[tokio::test]
+async fn permanent_link_drop_never_recovers() {
+    let swarm = spawn(
+        LOOPBACK,
+        px4_with(Faults {
+            link_drop: Some(LinkDrop {
+                after_takeoff: Duration::from_millis(500),
+                duration: Duration::MAX,
+            }),
+            ..Faults::default()
+        }),
+        100.0,
+        20.0,
+    )
+    .await
+    .expect("spawn");
+    let client = Client::connect(swarm.addresses()[0], 1).await;
+    assert_eq!(client.arm().await, Some(MavResult::MAV_RESULT_ACCEPTED));
+    assert_eq!(
+        client.command(MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7).await,
+        Some(MavResult::MAV_RESULT_ACCEPTED)
+    );
+    // Poll the true state (no message arrives once the link is cut).
+    let mut cut = None;
+    for _ in 0..100 {
+        if swarm.snapshot(0).link_down {
+            cut = Some(Instant::now());
+            break;
+        }
+        sleep(Duration::from_millis(50)).await;
+    }
+    let cut = cut.expect("the link is cut after takeoff");
+    client
+        .recv_until(Duration::from_millis(300), |_, _| None::<()>)
+        .await; // in flight
+    let after = client.collect(Duration::from_secs(4)).await;
+    assert!(after.is_empty(), "{} messages after the cut", after.len());
+    assert_eq!(client.command(MavCmd::MAV_CMD_NAV_LAND, NAN7).await, None);
+    let snapshot = swarm.snapshot(0);
+    assert!(
+        snapshot.link_down,
+        "still down {:?} after the cut",
+        cut.elapsed()
+    );
+    assert!(snapshot.armed && snapshot.mode != FlightMode::Land);
+    assert!(
+        snapshot.link.rx_dropped_by_fault >= 4,
+        "{:?}",
+        snapshot.link
+    );
     swarm.shutdown().await;
 }
 
@@ -320,5 +532,87 @@ async fn garbage_and_foreign_traffic_never_break_the_vehicle() {
     );
     let client = Client::connect(address, 1).await;
     assert_eq!(client.arm().await, Some(MavResult::MAV_RESULT_ACCEPTED));
+    swarm.shutdown().await;
+}
+
+#[tokio::test]
+async fn signing_refuses_a_third_partys_unsigned_and_wrongly_signed_arms() {
+    let key = [0x42u8; 32];
+    let mut configs = px4_with(Faults::default());
+    configs[0].signing_key = Some(key);
+    let swarm = spawn(LOOPBACK, configs, 100.0, 20.0).await.expect("spawn");
+    let address = swarm.addresses()[0];
+    // The ground station, correctly signed, talks to the vehicle first.
+    let gcs = Client::connect_signed(address, 1, Some(key)).await;
+    assert!(
+        gcs.recv_until(Duration::from_secs(2), |_, m| {
+            matches!(m, MavMessage::HEARTBEAT(_)).then_some(())
+        })
+        .await
+        .is_some(),
+        "signed telemetry reaches the ground station"
+    );
+    // A third party: system 200 on its own socket.
+    let intruder = tokio::net::UdpSocket::bind((LOOPBACK, 0))
+        .await
+        .expect("bind");
+    let arm = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1: 1.0,
+        command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        target_system: 1,
+        target_component: 1,
+        ..COMMAND_LONG_DATA::default()
+    });
+    let wrong_key = Signature::now([0x24; 32]);
+    let attempts: Vec<Vec<u8>> = (0..3u8)
+        .flat_map(|i| {
+            [
+                forge::message(200, 190, 2 * i, &arm),
+                forge::signed_message(
+                    200,
+                    190,
+                    2 * i + 1,
+                    &arm,
+                    &Signature {
+                        timestamp: wrong_key.timestamp + u64::from(i),
+                        ..wrong_key
+                    },
+                ),
+            ]
+        })
+        .collect();
+    let before = swarm.snapshot(0).link.rx_bad_signature;
+    for datagram in &attempts {
+        intruder.send_to(datagram, address).await.expect("send");
+        sleep(Duration::from_millis(20)).await;
+    }
+    // Nothing comes back to the intruder, least of all an ACCEPTED ack.
+    let mut buffer = [0u8; 2048];
+    let mut acks = Vec::new();
+    let deadline = Instant::now() + Duration::from_millis(700);
+    while let Ok(Ok((len, _))) =
+        tokio::time::timeout_at(deadline, intruder.recv_from(&mut buffer)).await
+    {
+        for (_, message) in swarmctl_sitl::codec::decode(&buffer[..len], None).messages {
+            if let MavMessage::COMMAND_ACK(ack) = message {
+                acks.push(ack.result);
+            }
+        }
+    }
+    assert!(
+        !acks.contains(&MavResult::MAV_RESULT_ACCEPTED),
+        "acks to the intruder: {acks:?}"
+    );
+    let snapshot = swarm.snapshot(0);
+    assert!(!snapshot.armed, "the intruder did not arm the vehicle");
+    assert_eq!(
+        snapshot.link.rx_bad_signature - before,
+        attempts.len() as u64,
+        "{:?}",
+        snapshot.link
+    );
+    // The ground station's correctly signed arm still works.
+    assert_eq!(gcs.arm().await, Some(MavResult::MAV_RESULT_ACCEPTED));
+    assert!(swarm.snapshot(0).armed);
     swarm.shutdown().await;
 }
