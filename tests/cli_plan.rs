@@ -168,3 +168,49 @@ fn deadline_error_names_the_lower_bound() {
         assert!(stderr.contains("optimal makespan is at least"), "{stderr}");
     }
 }
+
+/// `swarmctl fly --plan` refuses a plan file that does not fit the mission, names
+/// the file and the problem, and starts nothing (no simulator, no flight log).
+#[test]
+fn fly_refuses_a_broken_plan_before_starting_anything() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mission = repo("missions/swap-corridor.yaml");
+    let good = dir.path().join("plan.json");
+    swarmctl()
+        .arg("plan")
+        .arg(&mission)
+        .arg("-o")
+        .arg(&good)
+        .assert()
+        .success();
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&good).expect("plan written")).expect("json");
+    // Teleport drone "a" two voxels along the corridor at step 1.
+    let voxel = &mut json["drones"][0]["path"][1];
+    voxel[0] = serde_json::json!(voxel[0].as_u64().expect("x") + 2);
+    let broken = dir.path().join("broken-plan.json");
+    std::fs::write(&broken, serde_json::to_string(&json).expect("json")).expect("write");
+    let truncated = dir.path().join("truncated-plan.json");
+    let text = std::fs::read_to_string(&good).expect("plan");
+    std::fs::write(&truncated, &text[..text.len() / 2]).expect("write");
+
+    for (plan, expected) in [(&broken, "jumps from"), (&truncated, "is not valid JSON")] {
+        let log = dir.path().join("flight.json");
+        let out = swarmctl()
+            .arg("fly")
+            .arg(&mission)
+            .arg("--plan")
+            .arg(plan)
+            .arg("--log")
+            .arg(&log)
+            .timeout(std::time::Duration::from_secs(60))
+            .output()
+            .expect("runs");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{stderr}");
+        assert!(stderr.contains(&plan.display().to_string()), "{stderr}");
+        assert!(stderr.contains(expected), "{stderr}");
+        assert!(!stderr.contains("started the bundled SITL"), "{stderr}");
+        assert!(!log.exists(), "a flight log was written");
+    }
+}

@@ -51,7 +51,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // The same inputs `swarmctl plan` accepts: mission YAML or an imported instance.
     let mission = import::load_any(&args.mission, None)?;
     let plan = match &args.plan {
-        Some(path) => load_plan(path)?,
+        Some(path) => load_plan(path, &mission)?,
         None => plan_now(&mission, args.deadline)?,
     };
     let path = args
@@ -188,15 +188,10 @@ async fn fly_async(
     Ok(result?)
 }
 
-fn load_plan(path: &Path) -> anyhow::Result<DiscretePlan> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    serde_json::from_str(&text).with_context(|| {
-        format!(
-            "{} is not a plan written by `swarmctl plan`",
-            path.display()
-        )
-    })
+/// The plan file, refused before anything starts unless it is a valid plan for
+/// `mission` (see `swarmctl::plan::file`).
+fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<DiscretePlan> {
+    Ok(plan::file::load(path, mission)?)
 }
 
 fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> {

@@ -16,6 +16,7 @@ use super::receive;
 use super::signing::SigningKey;
 use super::telemetry::VehicleState;
 use mavlink::dialects::common::{COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavResult};
+use mavlink::error::MessageReadError;
 use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -330,9 +331,13 @@ async fn read_loop(
     loop {
         let (header, message) = match connection.recv().await {
             Ok(m) => m,
+            // A frame with a valid CRC that does not decode (unknown message, bad
+            // enum value): the next one may be fine. Never sleep on these, or a
+            // sender of junk could starve the vehicle's own messages.
+            Err(MessageReadError::Parse(_)) => continue,
             Err(_) => {
-                // ICMP "port unreachable", a frame that does not parse and the like:
-                // the vehicle may come back, and the next frame may be fine.
+                // A TCP link closed, ICMP "port unreachable" and the like: the
+                // vehicle may come back.
                 tokio::time::sleep(Duration::from_millis(20)).await;
                 continue;
             }

@@ -1,0 +1,423 @@
+//! Reading a plan file for flight, trusting nothing in it.
+//!
+//! `swarmctl plan -o PLAN.json` writes a [`CompiledPlan`](crate::compiled::CompiledPlan);
+//! `swarmctl fly MISSION --plan PLAN.json` flies it. Between the two the file may
+//! have been edited, truncated, corrupted or written by someone else, so [`load`]
+//! checks it before anything is started:
+//!
+//! 1. **It parses.** A JSON syntax error names the line and column; a field that
+//!    is missing or of the wrong type is named by its path
+//!    (`drones[2].path[14]: invalid length 2, expected an array of length 3`).
+//! 2. **It belongs to the mission.** The same drones in the mission's order (group
+//!    by group, file order within), each in its own group, every path with
+//!    `makespan_steps + 1` entries.
+//! 3. **It is a valid plan for the mission**, by the independent validator
+//!    ([`validate_plan`]): each path starts at its drone's start voxel, ends at a
+//!    goal of its group with one goal per drone, moves at most one voxel per step,
+//!    never enters an obstacle or leaves the world, and no two drones meet, swap or
+//!    rotate; the reported makespan and sum of costs are the true ones.
+//!
+//! Only the discrete plan is read (`makespan_steps`, `sum_of_costs_steps`, and
+//! each drone's `id`, `group`, `goal`, `path`). The flight executor schedules and
+//! samples its own trajectories from it, so the file's `trajectory`, `execution`
+//! and `check` are never flown and are not looked at; a file holding only the
+//! discrete plan is accepted too. Every error names the file.
+
+use super::discrete_plan::{DiscretePlan, DronePlan};
+use super::validator::validate_plan;
+use crate::mission::Mission;
+use crate::world::Voxel;
+use serde::de::DeserializeOwned;
+use serde_json::{Map, Value};
+use std::path::{Path, PathBuf};
+
+/// At most this many problems are listed in one error message.
+const MAX_LISTED: usize = 20;
+
+/// Why a plan file cannot be flown. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanFileError {
+    // The underlying errors are part of the message and deliberately not
+    // `#[source]`s: `{:#}` would print them twice.
+    #[error("cannot read plan file {}: {error}", .path.display())]
+    Read {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error("plan file {} is not valid JSON: {error}", .path.display())]
+    Syntax {
+        path: PathBuf,
+        error: serde_json::Error,
+    },
+    #[error("plan file {}: {field}: {reason}", .path.display())]
+    Field {
+        path: PathBuf,
+        /// Where in the file, e.g. `drones[2].path[14]`.
+        field: String,
+        reason: String,
+    },
+    #[error(
+        "plan file {} is not a valid plan for mission {mission:?}{}:\n  {}",
+        .path.display(),
+        written_for_note(.mission, .written_for),
+        list(.problems)
+    )]
+    Invalid {
+        path: PathBuf,
+        mission: String,
+        /// The mission the file says it was written for, if it says.
+        written_for: Option<String>,
+        problems: Vec<String>,
+    },
+}
+
+impl PlanFileError {
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            PlanFileError::Read { path, .. }
+            | PlanFileError::Syntax { path, .. }
+            | PlanFileError::Field { path, .. }
+            | PlanFileError::Invalid { path, .. } => path,
+        }
+    }
+}
+
+fn written_for_note(mission: &str, written_for: &Option<String>) -> String {
+    match written_for {
+        Some(name) if name != mission => format!(" (it was written for mission {name:?})"),
+        _ => String::new(),
+    }
+}
+
+fn list(problems: &[String]) -> String {
+    let mut text = problems
+        .iter()
+        .take(MAX_LISTED)
+        .cloned()
+        .collect::<Vec<_>>()
+        .join("\n  ");
+    if problems.len() > MAX_LISTED {
+        text.push_str(&format!("\n  … and {} more", problems.len() - MAX_LISTED));
+    }
+    text
+}
+
+/// Reads the plan file at `path` and returns its discrete plan if, and only if,
+/// it is a valid plan for `mission` (see the module documentation).
+pub fn load(path: &Path, mission: &Mission) -> Result<DiscretePlan, PlanFileError> {
+    let bytes = std::fs::read(path).map_err(|error| PlanFileError::Read {
+        path: path.to_path_buf(),
+        error,
+    })?;
+    from_bytes(&bytes, path, mission)
+}
+
+/// [`load`] for bytes already read; `path` only names them in errors.
+pub fn from_bytes(
+    bytes: &[u8],
+    path: &Path,
+    mission: &Mission,
+) -> Result<DiscretePlan, PlanFileError> {
+    let value: Value = serde_json::from_slice(bytes).map_err(|error| PlanFileError::Syntax {
+        path: path.to_path_buf(),
+        error,
+    })?;
+    let (written_for, plan) = parse(&value).map_err(|(field, reason)| PlanFileError::Field {
+        path: path.to_path_buf(),
+        field,
+        reason,
+    })?;
+    let invalid = |problems| PlanFileError::Invalid {
+        path: path.to_path_buf(),
+        mission: mission.name.clone(),
+        written_for: written_for.clone(),
+        problems,
+    };
+    let problems = misfits(mission, &plan);
+    if !problems.is_empty() {
+        return Err(invalid(problems));
+    }
+    if let Err(violations) = validate_plan(mission, &plan) {
+        return Err(invalid(violations.iter().map(|v| v.to_string()).collect()));
+    }
+    Ok(plan)
+}
+
+/// A problem at a place in the file: (field path, reason).
+type FieldError = (String, String);
+
+fn parse(value: &Value) -> Result<(Option<String>, DiscretePlan), FieldError> {
+    let top = value.as_object().ok_or_else(|| {
+        (
+            "top level".to_string(),
+            format!(
+                "expected an object with makespan_steps, sum_of_costs_steps and drones, found {}",
+                kind(value)
+            ),
+        )
+    })?;
+    let written_for = match top.get("mission") {
+        None | Some(Value::Null) => None,
+        Some(v) => Some(typed::<String>(v, "mission")?),
+    };
+    let makespan_steps = typed(required(top, "makespan_steps", "")?, "makespan_steps")?;
+    let sum_of_costs_steps = typed(
+        required(top, "sum_of_costs_steps", "")?,
+        "sum_of_costs_steps",
+    )?;
+    let drones = required(top, "drones", "")?
+        .as_array()
+        .ok_or_else(|| ("drones".to_string(), "expected a list".to_string()))?
+        .iter()
+        .enumerate()
+        .map(|(i, d)| drone(d, &format!("drones[{i}]")))
+        .collect::<Result<_, _>>()?;
+    Ok((
+        written_for,
+        DiscretePlan {
+            makespan_steps,
+            sum_of_costs_steps,
+            drones,
+        },
+    ))
+}
+
+fn drone(value: &Value, at: &str) -> Result<DronePlan, FieldError> {
+    let fields = value.as_object().ok_or_else(|| {
+        (
+            at.to_string(),
+            format!(
+                "expected an object with id, group, goal and path, found {}",
+                kind(value)
+            ),
+        )
+    })?;
+    let field = |name: &str| format!("{at}.{name}");
+    let path = required(fields, "path", at)?
+        .as_array()
+        .ok_or_else(|| (field("path"), "expected a list of [x, y, z] voxels".into()))?
+        .iter()
+        .enumerate()
+        .map(|(step, v)| typed::<Voxel>(v, &format!("{at}.path[{step}]")))
+        .collect::<Result<_, _>>()?;
+    Ok(DronePlan {
+        id: typed(required(fields, "id", at)?, &field("id"))?,
+        group: typed(required(fields, "group", at)?, &field("group"))?,
+        goal: typed(required(fields, "goal", at)?, &field("goal"))?,
+        path,
+    })
+}
+
+fn required<'v>(
+    object: &'v Map<String, Value>,
+    name: &str,
+    at: &str,
+) -> Result<&'v Value, FieldError> {
+    object.get(name).ok_or_else(|| {
+        let place = if at.is_empty() { "top level" } else { at };
+        (place.to_string(), format!("missing field `{name}`"))
+    })
+}
+
+fn typed<T: DeserializeOwned>(value: &Value, at: &str) -> Result<T, FieldError> {
+    T::deserialize(value).map_err(|e| (at.to_string(), e.to_string()))
+}
+
+fn kind(value: &Value) -> &'static str {
+    match value {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "a list",
+        Value::Object(_) => "an object",
+    }
+}
+
+/// Does the plan name the mission's drones, in the mission's order and groups, with
+/// paths of the common length? (Checked before the validator, whose work grows
+/// with the claimed makespan: a hostile `makespan_steps` must not make it spin.)
+fn misfits(mission: &Mission, plan: &DiscretePlan) -> Vec<String> {
+    let mut problems = Vec::new();
+    let expected: Vec<(&str, &str)> = mission
+        .drones()
+        .map(|(g, d)| (d.id.as_str(), g.name.as_str()))
+        .collect();
+    if plan.drones.len() != expected.len() {
+        problems.push(format!(
+            "the plan has {} drones, the mission {}",
+            plan.drones.len(),
+            expected.len()
+        ));
+    }
+    for (i, (d, &(id, group))) in plan.drones.iter().zip(&expected).enumerate() {
+        if d.id != id {
+            problems.push(format!(
+                "drone #{i} of the plan is {:?}, but the mission's drone #{i} is {id:?}",
+                d.id
+            ));
+        } else if d.group != group {
+            problems.push(format!(
+                "drone {id:?} is listed in group {:?} but belongs to {group:?}",
+                d.group
+            ));
+        }
+    }
+    let expected_len = u64::from(plan.makespan_steps) + 1;
+    for d in &plan.drones {
+        if d.path.len() as u64 != expected_len {
+            problems.push(format!(
+                "drone {:?}: path has {} entries, expected makespan_steps + 1 = {expected_len}",
+                d.id,
+                d.path.len()
+            ));
+        }
+    }
+    problems
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mission;
+
+    const MISSION: &str = r#"
+name: tiny
+world:
+  dimensions: [3, 3, 1]
+  voxel_size_m: 1.0
+  obstacles: [[1, 1, 0]]
+limits: { max_speed_mps: 1.0, max_accel_mps2: 2.0, safety_distance_m: 0.25 }
+groups:
+  - name: a
+    drones: [{ id: a1, start: [0, 0, 0] }]
+    goals: [[2, 0, 0]]
+  - name: b
+    drones: [{ id: b1, start: [0, 2, 0] }]
+    goals: [[2, 2, 0]]
+"#;
+
+    fn tiny() -> Mission {
+        mission::from_yaml(MISSION, Path::new("tiny.yaml")).expect("mission")
+    }
+
+    fn valid() -> Value {
+        serde_json::json!({
+            "mission": "tiny",
+            "makespan_steps": 2,
+            "sum_of_costs_steps": 4,
+            "makespan_s": 2.5,
+            "drones": [
+                { "id": "a1", "group": "a", "goal": [2, 0, 0],
+                  "path": [[0, 0, 0], [1, 0, 0], [2, 0, 0]], "trajectory": [] },
+                { "id": "b1", "group": "b", "goal": [2, 2, 0],
+                  "path": [[0, 2, 0], [1, 2, 0], [2, 2, 0]] }
+            ]
+        })
+    }
+
+    fn load_value(value: &Value) -> Result<DiscretePlan, PlanFileError> {
+        from_bytes(
+            serde_json::to_string(value).unwrap().as_bytes(),
+            Path::new("p.json"),
+            &tiny(),
+        )
+    }
+
+    fn message(value: &Value) -> String {
+        load_value(value).expect_err("refused").to_string()
+    }
+
+    #[test]
+    fn accepts_a_valid_plan() {
+        let plan = load_value(&valid()).expect("valid");
+        assert_eq!(plan.makespan_steps, 2);
+        assert_eq!(plan.drones[1].path[2], Voxel::new(2, 2, 0));
+    }
+
+    #[test]
+    fn syntax_errors_name_file_line_and_column() {
+        let e = from_bytes(b"{\n  \"drones\": [,]\n}", Path::new("p.json"), &tiny())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("p.json") && e.contains("line 2"), "{e}");
+    }
+
+    #[test]
+    fn field_errors_name_the_field() {
+        let mut v = valid();
+        v["drones"][1]["path"][1] = serde_json::json!([1, 2]);
+        let e = message(&v);
+        assert!(
+            e.contains("p.json: drones[1].path[1]: invalid length 2"),
+            "{e}"
+        );
+
+        let mut v = valid();
+        v["drones"][0].as_object_mut().unwrap().remove("goal");
+        assert!(message(&v).contains("drones[0]: missing field `goal`"));
+
+        let mut v = valid();
+        v["makespan_steps"] = serde_json::json!(-1);
+        assert!(message(&v).contains("makespan_steps: invalid value"));
+
+        assert!(message(&serde_json::json!([1])).contains("top level: expected an object"));
+    }
+
+    #[test]
+    fn a_path_through_an_obstacle_is_refused() {
+        let mut v = valid();
+        v["drones"][0]["path"] = serde_json::json!([[0, 0, 0], [1, 1, 0], [2, 0, 0]]);
+        let e = message(&v);
+        assert!(e.contains("inside an obstacle"), "{e}");
+    }
+
+    #[test]
+    fn swapped_drones_and_foreign_goals_are_refused() {
+        let mut v = valid();
+        let drones = v["drones"].as_array_mut().unwrap();
+        drones.swap(0, 1);
+        assert!(message(&v).contains("drone #0 of the plan is \"b1\""));
+
+        let mut v = valid();
+        v["drones"][0]["goal"] = serde_json::json!([2, 2, 0]);
+        v["drones"][0]["path"][2] = serde_json::json!([2, 2, 0]);
+        let e = message(&v);
+        assert!(e.contains("not a goal of group"), "{e}");
+    }
+
+    #[test]
+    fn a_huge_makespan_is_refused_quickly() {
+        let mut v = valid();
+        v["makespan_steps"] = serde_json::json!(u32::MAX);
+        let e = message(&v);
+        assert!(
+            e.contains("expected makespan_steps + 1 = 4294967296"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn another_missions_plan_says_so() {
+        let mut v = valid();
+        v["mission"] = serde_json::json!("other");
+        v["drones"][0]["id"] = serde_json::json!("x1");
+        let e = message(&v);
+        assert!(e.contains("written for mission \"other\""), "{e}");
+    }
+
+    #[test]
+    fn long_lists_of_problems_are_cut() {
+        let problems: Vec<String> = (0..50).map(|i| format!("p{i}")).collect();
+        let text = list(&problems);
+        assert!(text.contains("p19") && !text.contains("p20") && text.contains("30 more"));
+    }
+
+    #[test]
+    fn a_missing_file_is_named() {
+        let e = load(Path::new("/nonexistent/plan.json"), &tiny()).unwrap_err();
+        assert!(e.to_string().contains("/nonexistent/plan.json"));
+        assert_eq!(e.path(), Path::new("/nonexistent/plan.json"));
+    }
+}
