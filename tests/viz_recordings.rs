@@ -177,6 +177,9 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         gating_waits: 0,
         gating_wait_s: 0.0,
         max_final_distance_to_goal_m: 0.0,
+        lost: Vec::new(),
+        retired: Vec::new(),
+        handed_over: Vec::new(),
     };
     let drones = plan
         .drones

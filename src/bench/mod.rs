@@ -3,6 +3,7 @@
 //! Each suite is a list of seeded instances; the report gives medians and maxima, so
 //! a noisy shared machine shows as spread rather than as a wrong figure.
 
+pub mod fault_matrix;
 mod plan_suite;
 
 pub use plan_suite::{PlanSuite, PlanSuiteReport, run_plan_suite};
@@ -25,4 +26,29 @@ pub fn peak_memory_bytes() -> Option<u64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
+}
+
+/// What the process holds right now.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ProcessResources {
+    /// Resident memory (Linux `VmRSS`), bytes; 0 where unknown.
+    pub rss_bytes: u64,
+    /// Open file descriptors (entries of `/proc/self/fd`); 0 where unknown.
+    pub open_fds: usize,
+}
+
+/// Resident memory and open file descriptors of this process (Linux).
+pub fn process_resources() -> ProcessResources {
+    let rss_bytes = std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|status| {
+            let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+            line.split_whitespace().nth(1)?.parse::<u64>().ok()
+        })
+        .map_or(0, |kib| kib * 1024);
+    let open_fds = std::fs::read_dir("/proc/self/fd").map_or(0, |dir| dir.count());
+    ProcessResources {
+        rss_bytes,
+        open_fds,
+    }
 }

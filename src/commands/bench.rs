@@ -22,14 +22,45 @@ enum Target {
         #[arg(long, default_value_t = 10.0)]
         deadline: f64,
     },
+    /// Fly the fault matrix on the bundled SITL and print the results table.
+    Faults {
+        /// Mission to fly (the scenarios name drones b1 and r1, r2 of it).
+        #[arg(long, default_value = "missions/formation-change.yaml")]
+        mission: std::path::PathBuf,
+        /// Only the scenarios CI runs (those no other end-to-end test covers).
+        #[arg(long)]
+        reduced: bool,
+        /// Only scenarios whose name contains this text.
+        #[arg(long)]
+        only: Option<String>,
+    },
+    /// Fly missions back to back in one process; report memory and open files.
+    Soak {
+        #[arg(long, default_value = "missions/formation-change.yaml")]
+        mission: std::path::PathBuf,
+        /// How many flights.
+        #[arg(long, default_value_t = 10)]
+        flights: usize,
+    },
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let Target::Plan {
-        suite,
-        seeds,
-        deadline,
-    } = args.target;
+    match args.target {
+        Target::Plan {
+            suite,
+            seeds,
+            deadline,
+        } => plan(suite, seeds, deadline),
+        Target::Faults {
+            mission,
+            reduced,
+            only,
+        } => super::bench_flight::faults(&mission, reduced, only.as_deref()),
+        Target::Soak { mission, flights } => super::bench_flight::soak(&mission, flights),
+    }
+}
+
+fn plan(suite: PlanSuite, seeds: u64, deadline: f64) -> anyhow::Result<ExitCode> {
     let deadline = Duration::try_from_secs_f64(deadline)?;
     let o = suite.options(1);
     println!(

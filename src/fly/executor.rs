@@ -2,6 +2,7 @@
 //! folds in telemetry, opens TPG gates, watches separation and link health, and
 //! moves each drone through its phases (take off, fly the plan, land).
 
+use super::contingency::{self, RetireStage, Retirement};
 use super::follower::{Follower, Hold, Setpoint};
 use super::gate::{Progress, closed_gate};
 use super::log::LogEvent;
@@ -20,6 +21,9 @@ const TAKEOFF_NEAR_M: f64 = 0.3;
 
 /// Above this height a vehicle has certainly left the ground.
 const TAKEOFF_STARTED_M: f64 = 0.2;
+/// A stuck plan (see `contingency::plan_stuck`) must stay stuck this long before
+/// the flight ends, so a drone that is merely slow to settle is not mistaken for it.
+const STUCK_CONFIRM: Duration = Duration::from_secs(3);
 /// Takeoff of the whole swarm must finish within this long after arming.
 const TAKEOFF_TIMEOUT_S: f64 = 60.0;
 /// Position telemetry older than this (ten periods at 20 Hz) means we cannot see
@@ -51,6 +55,20 @@ pub enum Phase {
     Flying,
     /// Holding at the goal until everyone is.
     AtGoal,
+    /// Nothing heard for `contingency::LOST_AFTER_S`: left to its own failsafe.
+    Lost {
+        was_at_goal: bool,
+    },
+    /// Leaving the plan early (low battery, autopilot failsafe): see `contingency`.
+    Retiring {
+        stage: RetireStage,
+    },
+    /// Done (at its goal or held for good): lands once nothing is below it.
+    AwaitLanding,
+    /// Could never land safely: put in the autopilot's hold mode for manual control.
+    HandedOver {
+        task: Option<JoinHandle<Result<(), LinkError>>>,
+    },
     /// Land commanded; waiting for touchdown and disarm.
     Landing {
         task: Option<JoinHandle<Result<(), LinkError>>>,
@@ -68,6 +86,10 @@ impl Phase {
             Phase::AtStart => "at start",
             Phase::Flying => "flying",
             Phase::AtGoal => "at goal",
+            Phase::Lost { .. } => "LOST",
+            Phase::Retiring { .. } => "retiring",
+            Phase::AwaitLanding => "to land",
+            Phase::HandedOver { .. } => "HANDED OVER",
             Phase::Landing { .. } => "landing",
             Phase::Landed => "landed",
             Phase::Failed(_) => "FAILED",
@@ -90,6 +112,12 @@ pub struct DroneRun {
     pub speed_mps: f64,
     pub link_lost: bool,
     pub link_losses: usize,
+    /// Seconds since any message from the vehicle.
+    pub silent_s: f64,
+    /// Why the drone left its plan early, if it did.
+    pub retired: Option<Retirement>,
+    /// A retired drone's remaining events have been released (it is down).
+    pub released: bool,
     /// No position telemetry for `TELEMETRY_STALE_S`: the follower pauses.
     pub telemetry_stale: bool,
     /// PX4: re-entering OFFBOARD after the vehicle left it (offboard-loss failsafe).
@@ -113,6 +141,10 @@ pub struct LoopSettings {
     pub settle_tolerance_m: f64,
     /// Give up on plan execution (hold, then land) after this long.
     pub execution_timeout_s: f64,
+    pub safety_distance_m: f64,
+    /// The ground lies below the voxel world by at least the safety distance, so a
+    /// landed drone is in nobody's way.
+    pub ground_clear: bool,
 }
 
 /// What the loop measured.
@@ -148,6 +180,7 @@ pub async fn run(
     let mut aborting = false;
     let mut landing_started = false;
     let mut tap = Tap::new(drones.len());
+    let mut stuck_since: Option<Instant> = None;
     loop {
         tick.tick().await;
         let now = Instant::now();
@@ -190,10 +223,29 @@ pub async fn run(
         }
         read_telemetry(drones, &settings, now, since_arm_s, &mut out.events);
         let t_exec_s = execution_t0.map(|t0| now.duration_since(t0).as_secs_f64());
+        if t_exec_s.is_some() {
+            contingency::track_lost(drones, since_arm_s, &mut out.events);
+            if !landing_started {
+                contingency::detect_retirement(drones, since_arm_s, &mut out.events);
+            }
+            contingency::advance_retirements(
+                drones,
+                settings.safety_distance_m,
+                since_arm_s,
+                &mut out.events,
+            );
+            contingency::release_landed(
+                drones,
+                settings.ground_clear,
+                since_arm_s,
+                &mut out.events,
+            );
+        }
 
         // Gates first (from everyone's progress), then commanded motion.
         if let Some(t_s) = t_exec_s {
-            step_flying(drones, &settings, t_s, dt_s, aborting);
+            let paused = contingency::swarm_paused(drones);
+            step_flying(drones, &settings, t_s, dt_s, aborting, paused);
         }
         for d in drones.iter_mut() {
             advance_phase(d, &settings, now, since_arm_s, &mut out.events);
@@ -217,6 +269,11 @@ pub async fn run(
             ));
         }
         let all_at_goal = drones.iter().all(|d| matches!(d.phase, Phase::AtGoal));
+        // Retired drones that are down count as done: the others finished without them.
+        let plan_done = drones.iter().any(|d| matches!(d.phase, Phase::AtGoal))
+            && drones.iter().all(|d| {
+                matches!(d.phase, Phase::AtGoal) || (d.released && matches!(d.phase, Phase::Landed))
+            });
         if all_at_goal && !landing_started {
             out.completed = true;
             out.executed_makespan_s = t_exec_s;
@@ -224,18 +281,36 @@ pub async fn run(
         let all_holding = drones
             .iter()
             .all(|d| !matches!(d.phase, Phase::Flying) || d.follower.at_rest());
-        if !landing_started && (all_at_goal || (aborting && all_holding)) {
+        stuck_since = match (stuck_since, contingency::plan_stuck(drones)) {
+            (_, false) => None,
+            (None, true) => Some(now),
+            (Some(t), true) => Some(t),
+        };
+        let stuck = stuck_since.is_some_and(|t| now.duration_since(t) > STUCK_CONFIRM);
+        if stuck && !landing_started {
+            out.events.push(event(
+                since_arm_s,
+                None,
+                "the plan cannot finish without the missing drones: the others land where they are, each once its column is clear",
+            ));
+        }
+        if !landing_started && (all_at_goal || plan_done || stuck || (aborting && all_holding)) {
             landing_started = true;
             for d in drones.iter_mut() {
                 if let Some(p) = d.position_m {
                     d.final_distance_to_goal_m = Some(distance(p, d.route.goal_m()));
                 }
-                let landing_failed =
-                    matches!(&d.phase, Phase::Failed(why) if why.starts_with("landing"));
-                if !landing_failed && !matches!(d.phase, Phase::Landed) {
-                    d.phase = Phase::Landing { task: None };
+                let airborne = !matches!(
+                    d.phase,
+                    Phase::Landed | Phase::Failed(_) | Phase::Lost { .. } | Phase::Landing { .. }
+                );
+                if airborne {
+                    d.phase = Phase::AwaitLanding;
                 }
             }
+        }
+        if landing_started {
+            start_landings(drones, &settings, since_arm_s, &mut out.events);
         }
         if let Some(observer) = observer {
             tap.forward(observer, drones, armed_at, &out.events);
@@ -246,10 +321,14 @@ pub async fn run(
             out.min_separation_m,
             drones.iter().map(status_of).collect(),
         );
+        let handed_over = |d: &DroneRun| matches!(&d.phase, Phase::HandedOver { task: Some(t) } if t.is_finished());
         if landing_started
-            && drones
-                .iter()
-                .all(|d| matches!(d.phase, Phase::Landed | Phase::Failed(_)))
+            && drones.iter().all(|d| {
+                matches!(
+                    d.phase,
+                    Phase::Landed | Phase::Failed(_) | Phase::Lost { .. }
+                ) || handed_over(d)
+            })
         {
             break;
         }
@@ -303,10 +382,34 @@ impl Tap {
 }
 
 fn event(t_s: f64, drone: Option<&str>, message: &str) -> LogEvent {
-    LogEvent {
-        t_s,
-        drone: drone.map(str::to_string),
-        message: message.to_string(),
+    LogEvent::new(t_s, drone, message)
+}
+
+/// Lets each drone waiting to land descend once nothing is below it; a drone whose
+/// column stays blocked by one that will never move is handed to its autopilot.
+fn start_landings(
+    drones: &mut [DroneRun],
+    settings: &LoopSettings,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
+    for i in 0..drones.len() {
+        if matches!(drones[i].phase, Phase::AwaitLanding)
+            && contingency::column_blocker(drones, i, settings.safety_distance_m).is_none()
+        {
+            drones[i].phase = Phase::Landing { task: None };
+        }
+    }
+    for i in contingency::stranded(drones, settings.safety_distance_m) {
+        let blocker = contingency::column_blocker(drones, i, settings.safety_distance_m)
+            .map_or_else(String::new, |j| drones[j].id.clone());
+        let d = &mut drones[i];
+        events.push(event(
+            since_arm_s,
+            Some(&d.id),
+            &format!("cannot land: {blocker} is below it; left in the autopilot's position hold — take manual control"),
+        ));
+        d.phase = Phase::HandedOver { task: None };
     }
 }
 
@@ -323,10 +426,15 @@ fn read_telemetry(
     events: &mut Vec<LogEvent>,
 ) {
     for d in drones.iter_mut() {
-        let (position, heartbeat_age_s) = {
+        let (position, silent_s) = {
             let s = d.session.state();
-            (s.position, s.heartbeat_age_s(now))
+            (
+                s.position,
+                s.last_message
+                    .map(|t| now.saturating_duration_since(t).as_secs_f64()),
+            )
         };
+        d.silent_s = silent_s.unwrap_or(f64::INFINITY);
         let stale = position.is_none_or(|p| {
             now.saturating_duration_since(p.received).as_secs_f64() > TELEMETRY_STALE_S
         });
@@ -344,14 +452,16 @@ fn read_telemetry(
             let v = p.velocity_ned_mps.map(f64::from);
             d.speed_mps = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         }
-        let lost = heartbeat_age_s.is_none_or(|age| age > settings.link_timeout_s);
+        // Any message proves the link: under heavy loss heartbeats alone (1 Hz) go
+        // missing for seconds while telemetry (20 Hz) still gets through.
+        let lost = silent_s.is_none_or(|age| age > settings.link_timeout_s);
         if lost && !d.link_lost {
             d.link_losses += 1;
             events.push(event(
                 since_arm_s,
                 Some(&d.id),
                 &format!(
-                    "link lost: no heartbeat for {:.1} s",
+                    "link lost: nothing heard for {:.1} s",
                     settings.link_timeout_s
                 ),
             ));
@@ -369,9 +479,14 @@ fn step_flying(
     t_s: f64,
     dt_s: f64,
     aborting: bool,
+    swarm_paused: bool,
 ) {
     for d in drones.iter_mut() {
-        if !matches!(d.phase, Phase::Flying | Phase::AtGoal) || d.link_lost || d.telemetry_stale {
+        let observed = matches!(
+            d.phase,
+            Phase::Flying | Phase::AtGoal | Phase::Retiring { .. }
+        );
+        if !observed || d.link_lost || d.telemetry_stale {
             continue;
         }
         if let Some(p) = d.position_m {
@@ -382,7 +497,13 @@ fn step_flying(
     }
     let progress: Vec<Progress> = drones.iter().map(|d| d.progress.clone()).collect();
     for d in drones.iter_mut() {
-        if !matches!(d.phase, Phase::Flying) {
+        let retiring = matches!(
+            d.phase,
+            Phase::Retiring {
+                stage: RetireStage::Halting | RetireStage::WaitColumn { .. }
+            }
+        );
+        if !matches!(d.phase, Phase::Flying) && !retiring {
             continue;
         }
         if aborting {
@@ -395,7 +516,7 @@ fn step_flying(
         let settled = d
             .position_m
             .is_some_and(|p| distance(p, rest_point) <= settings.settle_tolerance_m);
-        let paused = d.link_lost || d.telemetry_stale || d.resume_task.is_some();
+        let paused = d.link_lost || d.telemetry_stale || d.resume_task.is_some() || swarm_paused;
         let was_gated = d.follower.hold == Hold::Gate;
         d.follower.set_paused(paused);
         let setpoint = d.follower.step(&d.route, t_s, dt_s, gate_arc_m, settled);
@@ -410,7 +531,8 @@ fn step_flying(
             d.waiting_for = None;
         }
         d.last_setpoint = Some(setpoint);
-        if d.follower.finished(&d.route)
+        if matches!(d.phase, Phase::Flying)
+            && d.follower.finished(&d.route)
             && d.position_m
                 .is_some_and(|p| distance(p, d.route.goal_m()) <= settings.settle_tolerance_m)
         {
@@ -523,6 +645,21 @@ fn advance_phase(
         }
         Phase::AtStart => d.last_setpoint = Some(hold_start),
         Phase::Flying | Phase::AtGoal => resume_external_control(d, since_arm_s, events),
+        Phase::Retiring {
+            stage: RetireStage::Halting | RetireStage::WaitColumn { .. },
+        } => resume_external_control(d, since_arm_s, events),
+        Phase::Lost { .. }
+        | Phase::AwaitLanding
+        | Phase::Retiring {
+            stage: RetireStage::AutopilotLanding,
+        } => {}
+        Phase::HandedOver { task } => {
+            if task.is_none() {
+                let session = d.session.clone();
+                let mode = d.flavour.hold_mode();
+                *task = Some(tokio::spawn(async move { session.set_mode(mode).await }));
+            }
+        }
         Phase::Landing { task } => match task {
             None => {
                 let session = d.session.clone();
@@ -563,7 +700,13 @@ fn resume_external_control(d: &mut DroneRun, since_arm_s: f64, events: &mut Vec<
     let mode = d.flavour.external_control_mode();
     match &mut d.resume_task {
         None => {
-            let out_of_mode = d.session.state().custom_mode != mode.custom_mode;
+            let current = d.session.state().custom_mode;
+            // Land and return are the autopilot's own failsafes: never fight them
+            // (`contingency` takes the drone out of the plan instead).
+            if contingency::autopilot_failsafe_mode(d.flavour, current) {
+                return;
+            }
+            let out_of_mode = current != mode.custom_mode;
             if out_of_mode && !d.link_lost && !d.telemetry_stale {
                 events.push(event(
                     since_arm_s,
@@ -615,6 +758,11 @@ async fn stream(drones: &[DroneRun]) {
                 | Phase::AtStart
                 | Phase::Flying
                 | Phase::AtGoal
+                | Phase::AwaitLanding
+                | Phase::Lost { .. }
+                | Phase::Retiring {
+                    stage: RetireStage::Halting | RetireStage::WaitColumn { .. }
+                }
         ) || (matches!(d.phase, Phase::AwaitAltitude) && d.last_setpoint.is_some());
         if !streaming {
             continue;

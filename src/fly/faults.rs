@@ -1,5 +1,6 @@
-//! `--fault` flags for the bundled SITL: `loss=10%`, `latency=50ms`,
-//! `slow=DRONE_ID:0.5`, `drop=DRONE_ID@5s+3s`, `refuse-arm=DRONE_ID`.
+//! `--fault` flags for the bundled SITL: `loss=10%`, `latency=50ms`, `dup=5%`,
+//! `reorder=10%`, `slow=DRONE_ID:0.5`, `drop=DRONE_ID@5s+3s`, `lose=DRONE_ID@5s`,
+//! `refuse-arm=DRONE_ID`, `low-battery=DRONE_ID@10s`, `critical-battery=DRONE_ID@10s`.
 
 use std::time::Duration;
 
@@ -10,6 +11,18 @@ pub enum FaultSpec {
     Loss { percent: f64 },
     /// Add this latency in each direction, every vehicle.
     Latency { latency: Duration },
+    /// Deliver this share of packets (percent) twice, each direction, every vehicle.
+    Duplicate { percent: f64 },
+    /// Hold back this share of packets (percent) so later ones overtake them.
+    Reorder { percent: f64 },
+    /// Cut this drone's link `after` takeoff, for good.
+    Lose { drone: String, after: Duration },
+    /// This drone's battery turns low `after` arming (a warning; it turns critical,
+    /// and the autopilot lands it, 45 s later).
+    LowBattery { drone: String, after: Duration },
+    /// This drone's battery turns critical `after` arming with no warning first:
+    /// its autopilot's failsafe lands it (PX4) or returns it (ArduPilot).
+    CriticalBattery { drone: String, after: Duration },
     /// This drone flies at `factor` times the speed it is commanded.
     Slow { drone: String, factor: f64 },
     /// Cut this drone's link `after` takeoff, for `duration`.
@@ -35,8 +48,14 @@ impl FaultSpec {
         match self {
             FaultSpec::Slow { drone, .. }
             | FaultSpec::Drop { drone, .. }
+            | FaultSpec::Lose { drone, .. }
+            | FaultSpec::LowBattery { drone, .. }
+            | FaultSpec::CriticalBattery { drone, .. }
             | FaultSpec::RefuseArm { drone } => Some(drone),
-            FaultSpec::Loss { .. } | FaultSpec::Latency { .. } => None,
+            FaultSpec::Loss { .. }
+            | FaultSpec::Latency { .. }
+            | FaultSpec::Duplicate { .. }
+            | FaultSpec::Reorder { .. } => None,
         }
     }
 }
@@ -49,17 +68,48 @@ pub fn parse_fault(flag: &str) -> Result<FaultSpec, FaultError> {
     };
     let (kind, value) = flag
         .split_once('=')
-        .ok_or_else(|| bad("expected KIND=VALUE (loss=10%, latency=50ms, slow=ID:0.5, drop=ID@5s+3s, refuse-arm=ID)"))?;
+        .ok_or_else(|| bad("expected KIND=VALUE (loss=10%, latency=50ms, dup=5%, reorder=10%, slow=ID:0.5, drop=ID@5s+3s, lose=ID@5s, refuse-arm=ID, low-battery=ID@10s, critical-battery=ID@10s)"))?;
+    let percent = |name: &str| -> Result<f64, FaultError> {
+        let number = value
+            .strip_suffix('%')
+            .ok_or_else(|| bad(&format!("{name} needs a percentage, like {name}=10%")))?;
+        let percent: f64 = number
+            .parse()
+            .map_err(|_| bad(&format!("{name} is not a number")))?;
+        if !(0.0..=100.0).contains(&percent) {
+            return Err(bad(&format!("{name} must be between 0% and 100%")));
+        }
+        Ok(percent)
+    };
+    // DRONE_ID@AFTER
+    let drone_at = |example: &str| -> Result<(String, Duration), FaultError> {
+        let expected = format!("expected {kind}=DRONE_ID@AFTER, like {example}");
+        let (drone, after) = value.split_once('@').ok_or_else(|| bad(&expected))?;
+        non_empty(drone).ok_or_else(|| bad("missing drone id"))?;
+        let after = parse_duration(after).ok_or_else(|| bad("AFTER is not a duration like 5s"))?;
+        Ok((drone.to_string(), after))
+    };
     match kind {
-        "loss" => {
-            let number = value
-                .strip_suffix('%')
-                .ok_or_else(|| bad("loss needs a percentage, like loss=10%"))?;
-            let percent: f64 = number.parse().map_err(|_| bad("loss is not a number"))?;
-            if !(0.0..=100.0).contains(&percent) {
-                return Err(bad("loss must be between 0% and 100%"));
-            }
-            Ok(FaultSpec::Loss { percent })
+        "loss" => Ok(FaultSpec::Loss {
+            percent: percent("loss")?,
+        }),
+        "dup" => Ok(FaultSpec::Duplicate {
+            percent: percent("dup")?,
+        }),
+        "reorder" => Ok(FaultSpec::Reorder {
+            percent: percent("reorder")?,
+        }),
+        "lose" => {
+            let (drone, after) = drone_at("lose=b1@5s")?;
+            Ok(FaultSpec::Lose { drone, after })
+        }
+        "low-battery" => {
+            let (drone, after) = drone_at("low-battery=b1@10s")?;
+            Ok(FaultSpec::LowBattery { drone, after })
+        }
+        "critical-battery" => {
+            let (drone, after) = drone_at("critical-battery=b1@10s")?;
+            Ok(FaultSpec::CriticalBattery { drone, after })
         }
         "latency" => Ok(FaultSpec::Latency {
             latency: parse_duration(value)
@@ -103,7 +153,7 @@ pub fn parse_fault(flag: &str) -> Result<FaultSpec, FaultError> {
                 .to_string(),
         }),
         _ => Err(bad(
-            "unknown fault kind (loss, latency, slow, drop, refuse-arm)",
+            "unknown fault kind (loss, latency, dup, reorder, slow, drop, lose, refuse-arm, low-battery, critical-battery)",
         )),
     }
 }
@@ -159,6 +209,39 @@ mod tests {
     }
 
     #[test]
+    fn parses_the_reliability_faults() {
+        assert_eq!(
+            parse_fault("dup=5%"),
+            Ok(FaultSpec::Duplicate { percent: 5.0 })
+        );
+        assert_eq!(
+            parse_fault("reorder=20%"),
+            Ok(FaultSpec::Reorder { percent: 20.0 })
+        );
+        assert_eq!(
+            parse_fault("lose=r2@8s"),
+            Ok(FaultSpec::Lose {
+                drone: "r2".into(),
+                after: Duration::from_secs(8)
+            })
+        );
+        assert_eq!(
+            parse_fault("low-battery=b1@12.5s"),
+            Ok(FaultSpec::LowBattery {
+                drone: "b1".into(),
+                after: Duration::from_millis(12_500)
+            })
+        );
+        assert_eq!(
+            parse_fault("critical-battery=b1@500ms"),
+            Ok(FaultSpec::CriticalBattery {
+                drone: "b1".into(),
+                after: Duration::from_millis(500)
+            })
+        );
+    }
+
+    #[test]
     fn malformed_flags_name_the_flag() {
         for flag in [
             "loss=10",
@@ -168,6 +251,11 @@ mod tests {
             "drop=b1@5s",
             "latency=5",
             "wind=3",
+            "dup=5",
+            "reorder=101%",
+            "lose=b1",
+            "low-battery=@5s",
+            "critical-battery=b1@soon",
         ] {
             let e = parse_fault(flag).unwrap_err();
             assert!(

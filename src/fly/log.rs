@@ -45,6 +45,15 @@ pub struct Summary {
     pub gating_wait_s: f64,
     /// Largest final distance from a drone to its goal (before landing), metres.
     pub max_final_distance_to_goal_m: f64,
+    /// Drones given up for lost (nothing heard for `contingency::LOST_AFTER_S`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lost: Vec<String>,
+    /// Drones that left the plan early and landed (low battery, autopilot failsafe).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub retired: Vec<String>,
+    /// Drones that could not land safely and were left in the autopilot's hold.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub handed_over: Vec<String>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -71,6 +80,16 @@ pub struct LogEvent {
     pub message: String,
 }
 
+impl LogEvent {
+    pub fn new(t_s: f64, drone: Option<&str>, message: &str) -> Self {
+        Self {
+            t_s,
+            drone: drone.map(str::to_string),
+            message: message.to_string(),
+        }
+    }
+}
+
 fn infinity() -> f64 {
     f64::INFINITY
 }
@@ -91,7 +110,7 @@ fn separation_text(separation_m: f64) -> String {
 impl Summary {
     /// The lines `swarmctl fly` prints.
     pub fn lines(&self) -> Vec<String> {
-        vec![
+        let mut lines = vec![
             format!(
                 "  completed            {}",
                 if self.completed { "yes" } else { "NO" }
@@ -130,7 +149,17 @@ impl Summary {
                 "  final goal distance  ≤ {:.3} m",
                 self.max_final_distance_to_goal_m
             ),
-        ]
+        ];
+        for (label, ids) in [
+            ("LOST", &self.lost),
+            ("retired early", &self.retired),
+            ("HANDED OVER", &self.handed_over),
+        ] {
+            if !ids.is_empty() {
+                lines.push(format!("  {label:<20} {}", ids.join(", ")));
+            }
+        }
+        lines
     }
 }
 
@@ -153,6 +182,9 @@ mod tests {
             gating_waits: 0,
             gating_wait_s: 0.0,
             max_final_distance_to_goal_m: 0.0,
+            lost: Vec::new(),
+            retired: Vec::new(),
+            handed_over: Vec::new(),
         }
     }
 

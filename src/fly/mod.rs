@@ -11,6 +11,7 @@
 //! never past a gate whose predecessors are unobserved), so slack absorbs a late
 //! drone without replanning and only the drones that depend on it wait.
 
+pub mod contingency;
 pub mod error;
 pub mod executor;
 pub mod faults;
@@ -181,6 +182,9 @@ pub async fn fly(
             speed_mps: 0.0,
             link_lost: false,
             link_losses: 0,
+            silent_s: 0.0,
+            retired: None,
+            released: false,
             telemetry_stale: false,
             resume_task: None,
             gating_waits: 0,
@@ -197,6 +201,9 @@ pub async fn fly(
         max_accel_mps2: l.max_accel_mps2,
         settle_tolerance_m: options.settle_tolerance_m,
         execution_timeout_s: options.timeout_factor * execution.makespan_s + 30.0,
+        safety_distance_m: l.safety_distance_m,
+        // Drones fly at voxel centres; the lowest layer's centre is at origin z.
+        ground_clear: mission.world.origin_m()[2] >= l.safety_distance_m,
     };
     let mut monitor = monitor::Monitor::new(options.status);
     let outcome = executor::run(
@@ -250,6 +257,9 @@ pub async fn fly(
         speed_limit_mps: l.max_speed_mps,
         gating_waits: drone_logs.iter().map(|d| d.gating_waits).sum(),
         gating_wait_s: drone_logs.iter().map(|d| d.gating_wait_s).sum(),
+        lost: ids_where(&drones, |d| matches!(d.phase, Phase::Lost { .. })),
+        retired: ids_where(&drones, |d| d.retired.is_some()),
+        handed_over: ids_where(&drones, |d| matches!(d.phase, Phase::HandedOver { .. })),
         max_final_distance_to_goal_m: drone_logs
             .iter()
             .filter_map(|d| d.final_distance_to_goal_m)
@@ -261,4 +271,12 @@ pub async fn fly(
         drones: drone_logs,
         events: outcome.events,
     })
+}
+
+fn ids_where(drones: &[DroneRun], keep: impl Fn(&DroneRun) -> bool) -> Vec<String> {
+    drones
+        .iter()
+        .filter(|d| keep(d))
+        .map(|d| d.id.clone())
+        .collect()
 }

@@ -8,7 +8,11 @@ use crate::link::frames;
 use crate::mission::Mission;
 use crate::plan::DiscretePlan;
 use std::net::{IpAddr, Ipv4Addr};
+use std::time::Duration;
 use swarmctl_sitl::{Faults, Flavour, GeoPoint, LinkDrop, Swarm, VehicleConfig};
+
+/// A low battery turns critical (and the autopilot lands) this long after the warning.
+const CRITICAL_AFTER_LOW: Duration = Duration::from_secs(45);
 
 #[derive(Debug, thiserror::Error)]
 pub enum BundledSitlError {
@@ -53,6 +57,9 @@ pub fn vehicle_configs(
             c.max_speed_mps = mission.limits.max_speed_mps as f32;
             c.max_accel_mps2 = mission.limits.max_accel_mps2 as f32;
             c.faults = faults_for(&d.id, faults);
+            // The link-loss failsafe swarmctl expects (see the README): hold where you
+            // are, so the plan graph keeps everyone else clear of the silent drone.
+            c.offboard_loss_land_after = Duration::MAX;
             c
         })
         .collect();
@@ -77,6 +84,21 @@ fn faults_for(drone: &str, faults: &[FaultSpec]) -> Faults {
                 })
             }
             FaultSpec::RefuseArm { drone: d } if d == drone => out.refuse_arm = true,
+            FaultSpec::Duplicate { percent } => out.duplicate_percent = *percent,
+            FaultSpec::Reorder { percent } => out.reorder_percent = *percent,
+            FaultSpec::Lose { drone: d, after } if d == drone => {
+                out.link_drop = Some(LinkDrop {
+                    after_takeoff: *after,
+                    duration: Duration::MAX,
+                })
+            }
+            FaultSpec::LowBattery { drone: d, after } if d == drone => {
+                out.low_battery_after = Some(*after);
+                out.critical_battery_after = Some(*after + CRITICAL_AFTER_LOW);
+            }
+            FaultSpec::CriticalBattery { drone: d, after } if d == drone => {
+                out.critical_battery_after = Some(*after)
+            }
             _ => {}
         }
     }

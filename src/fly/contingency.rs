@@ -1,0 +1,310 @@
+//! What the swarm does when one drone can no longer fly its plan: its link is gone
+//! for good, or its battery runs low, or its autopilot's failsafe takes over.
+//!
+//! The plan graph already makes the drones that depend on a missing drone wait at
+//! their gates (its events are never observed), so the rest of the swarm keeps
+//! flying everything that does not need it. What this module adds is leaving the
+//! plan safely:
+//!
+//! - **Lost** (no message for [`LOST_AFTER_S`]): reported, left to its own
+//!   failsafe, which must be position hold (see the README). If every other drone
+//!   is at its goal or held at a gate, the flight ends: each lands when its
+//!   column is clear, and one that cannot (the lost drone hovers below it) is put
+//!   in the autopilot's hold mode and reported for manual control.
+//! - **Low battery** ([`LOW_BATTERY_PCT`] or less): the drone stops at once, the
+//!   whole swarm pauses (everyone brakes to rest along its path, where the plan
+//!   graph keeps them safe), and the drone descends once nothing is below it.
+//!   On the ground — below the voxel world — it can block nobody, so its events
+//!   are released and the swarm resumes without it.
+//! - **Autopilot failsafe** (the vehicle switched itself to land or return): we
+//!   do not fight it. The swarm pauses until it has landed, then resumes as above.
+
+use super::executor::{DroneRun, Phase};
+use super::log::LogEvent;
+use crate::link::Flavour;
+
+/// A drone silent this long is given up for this flight (its link may still come back).
+pub const LOST_AFTER_S: f64 = 10.0;
+/// Battery at or below this share (SYS_STATUS battery_remaining) ends its plan.
+pub const LOW_BATTERY_PCT: i8 = 25;
+/// Horizontal clearance margin over the safety distance for a vertical descent.
+const COLUMN_MARGIN_M: f64 = 0.1;
+/// Below this height a drone is on the ground, not in anybody's way.
+const AIRBORNE_M: f64 = 0.1;
+/// A drone at rest moves slower than this in telemetry.
+const AT_REST_MPS: f64 = 0.1;
+/// How long to let the swarm move before trying again to clear a blocked descent.
+const COLUMN_RETRY_S: f64 = 5.0;
+
+/// Why a drone left its plan early.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Retirement {
+    LowBattery,
+    AutopilotFailsafe,
+}
+
+/// Where a retiring drone is on its way down.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RetireStage {
+    /// Waiting for itself and the swarm to come to rest.
+    Halting,
+    /// Its column was blocked: the swarm moves on until `retry_at`.
+    WaitColumn { retry_at_s: f64 },
+    /// The autopilot is landing it on its own.
+    AutopilotLanding,
+}
+
+/// Whether the swarm must be at rest this tick: a retiring drone is about to
+/// descend, or its autopilot is bringing it down.
+pub fn swarm_paused(drones: &[DroneRun]) -> bool {
+    drones.iter().any(|d| {
+        matches!(
+            d.phase,
+            Phase::Retiring {
+                stage: RetireStage::Halting | RetireStage::AutopilotLanding,
+                ..
+            }
+        ) || matches!(d.phase, Phase::Landing { .. } if d.retired.is_some())
+    })
+}
+
+/// True if `i` can descend vertically: no other airborne drone (a lost one at its
+/// last known position included) is below it within the safety distance
+/// horizontally. Returns the blocking drone otherwise.
+pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> Option<usize> {
+    let p = drones[i].position_m?;
+    drones.iter().enumerate().find_map(|(j, other)| {
+        if j == i || matches!(other.phase, Phase::Landed) {
+            return None;
+        }
+        let q = other.position_m?;
+        let horizontal = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+        let below = q[2] < p[2] && q[2] > AIRBORNE_M;
+        (below && horizontal < safety_distance_m + COLUMN_MARGIN_M).then_some(j)
+    })
+}
+
+/// Declares drones lost after [`LOST_AFTER_S`] without a message, and brings them
+/// back if they are heard again.
+pub fn track_lost(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<LogEvent>) {
+    for d in drones.iter_mut() {
+        match d.phase {
+            Phase::Flying | Phase::AtGoal if d.silent_s > LOST_AFTER_S => {
+                events.push(LogEvent::new(
+                    since_arm_s,
+                    Some(&d.id),
+                    &format!(
+                        "LOST: nothing heard for {LOST_AFTER_S:.0} s; left to its failsafe (hold), the drones that depend on it hold at their gates"
+                    ),
+                ));
+                d.follower.set_paused(true);
+                d.phase = Phase::Lost {
+                    was_at_goal: matches!(d.phase, Phase::AtGoal),
+                };
+            }
+            Phase::Lost { was_at_goal } if !d.link_lost && !d.telemetry_stale => {
+                events.push(LogEvent::new(
+                    since_arm_s,
+                    Some(&d.id),
+                    "heard again after being lost: back in the plan",
+                ));
+                d.phase = if was_at_goal {
+                    Phase::AtGoal
+                } else {
+                    Phase::Flying
+                };
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Starts retiring drones whose battery is low or whose autopilot took over.
+pub fn detect_retirement(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<LogEvent>) {
+    for d in drones.iter_mut() {
+        if !matches!(d.phase, Phase::Flying | Phase::AtGoal) || d.link_lost {
+            continue;
+        }
+        let (battery, mode) = {
+            let s = d.session.state();
+            (s.battery_remaining_pct, s.custom_mode)
+        };
+        let why = if autopilot_failsafe_mode(d.flavour, mode) {
+            Retirement::AutopilotFailsafe
+        } else if battery.is_some_and(|pct| pct <= LOW_BATTERY_PCT) {
+            Retirement::LowBattery
+        } else {
+            continue;
+        };
+        let (message, stage) = match why {
+            Retirement::LowBattery => (
+                format!(
+                    "battery low ({}%): leaving the plan; the swarm pauses while it lands",
+                    battery.unwrap_or_default()
+                ),
+                RetireStage::Halting,
+            ),
+            Retirement::AutopilotFailsafe => (
+                format!(
+                    "autopilot failsafe took over (mode {mode:#x}): the swarm pauses while it lands"
+                ),
+                RetireStage::AutopilotLanding,
+            ),
+        };
+        events.push(LogEvent::new(since_arm_s, Some(&d.id), &message));
+        d.follower.halt();
+        d.retired = Some(why);
+        d.phase = Phase::Retiring { stage };
+    }
+}
+
+/// Moves retiring drones on: descend once the swarm is at rest and the column is
+/// clear, or let the swarm move on for a while when it is not.
+pub fn advance_retirements(
+    drones: &mut [DroneRun],
+    safety_distance_m: f64,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
+    let swarm_at_rest = drones.iter().all(|d| {
+        !matches!(d.phase, Phase::Flying | Phase::Retiring { .. })
+            || (d.follower.at_rest() && d.speed_mps < AT_REST_MPS)
+    });
+    for i in 0..drones.len() {
+        let Phase::Retiring { stage } = drones[i].phase else {
+            continue;
+        };
+        let d = &mut drones[i];
+        let mode = d.session.state().custom_mode;
+        if stage != RetireStage::AutopilotLanding && autopilot_failsafe_mode(d.flavour, mode) {
+            events.push(LogEvent::new(
+                since_arm_s,
+                Some(&d.id),
+                &format!("autopilot failsafe took over (mode {mode:#x}): the swarm stays paused while it lands"),
+            ));
+            d.retired = Some(Retirement::AutopilotFailsafe);
+            d.phase = Phase::Retiring {
+                stage: RetireStage::AutopilotLanding,
+            };
+            continue;
+        }
+        match stage {
+            RetireStage::Halting if swarm_at_rest => {
+                match column_blocker(drones, i, safety_distance_m) {
+                    None => {
+                        let d = &mut drones[i];
+                        events.push(LogEvent::new(
+                            since_arm_s,
+                            Some(&d.id),
+                            "swarm at rest and nothing below: descending",
+                        ));
+                        d.phase = Phase::Landing { task: None };
+                    }
+                    Some(j) => {
+                        let blocker = drones[j].id.clone();
+                        let d = &mut drones[i];
+                        events.push(LogEvent::new(
+                            since_arm_s,
+                            Some(&d.id),
+                            &format!("cannot descend: {blocker} is below; the swarm moves on, retrying in {COLUMN_RETRY_S:.0} s"),
+                        ));
+                        d.phase = Phase::Retiring {
+                            stage: RetireStage::WaitColumn {
+                                retry_at_s: since_arm_s + COLUMN_RETRY_S,
+                            },
+                        };
+                    }
+                }
+            }
+            RetireStage::WaitColumn { retry_at_s } if since_arm_s >= retry_at_s => {
+                drones[i].phase = Phase::Retiring {
+                    stage: RetireStage::Halting,
+                };
+            }
+            RetireStage::AutopilotLanding => {
+                let d = &mut drones[i];
+                let disarmed = !d.session.state().armed;
+                if disarmed {
+                    d.phase = Phase::Landed;
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// A retired drone that is down: its remaining events no longer hold anyone up,
+/// as long as the ground is out of the voxel world by the safety distance.
+pub fn release_landed(
+    drones: &mut [DroneRun],
+    ground_clear: bool,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
+    for d in drones.iter_mut() {
+        if d.retired.is_none() || !matches!(d.phase, Phase::Landed) || d.released {
+            continue;
+        }
+        d.released = true;
+        if ground_clear {
+            d.progress.reached = d.route.events.len();
+            events.push(LogEvent::new(
+                since_arm_s,
+                Some(&d.id),
+                "landed: its remaining plan events are released, the swarm resumes",
+            ));
+        } else {
+            events.push(LogEvent::new(
+                since_arm_s,
+                Some(&d.id),
+                "landed inside the voxel world: the drones that depend on it keep holding",
+            ));
+        }
+    }
+}
+
+/// True when no further progress is possible: a drone is lost (or failed in
+/// flight) and every other one is done, retired, or at rest at a closed gate.
+pub fn plan_stuck(drones: &[DroneRun]) -> bool {
+    let someone_missing = drones
+        .iter()
+        .any(|d| matches!(d.phase, Phase::Lost { .. } | Phase::Failed(_)));
+    someone_missing
+        && drones.iter().all(|d| match d.phase {
+            Phase::Flying => d.follower.at_rest() && d.follower.hold == super::follower::Hold::Gate,
+            Phase::AtGoal | Phase::Landed | Phase::Failed(_) | Phase::Lost { .. } => true,
+            _ => false,
+        })
+}
+
+/// Modes an autopilot enters by itself to bring a vehicle home or down.
+pub fn autopilot_failsafe_mode(flavour: Flavour, custom_mode: u32) -> bool {
+    let land = flavour.land_mode().custom_mode;
+    let rtl = match flavour {
+        Flavour::Px4 => 0x0504_0000, // AUTO.RTL
+        Flavour::Ardupilot => 6,     // RTL
+    };
+    custom_mode == land || custom_mode == rtl
+}
+
+/// Drones still waiting to land whose column stays blocked by a drone that will
+/// not move (lost): handing them to the autopilot's hold is all that is left.
+pub fn stranded(drones: &[DroneRun], safety_distance_m: f64) -> Vec<usize> {
+    let settled = drones.iter().all(|d| {
+        matches!(
+            d.phase,
+            Phase::AwaitLanding { .. }
+                | Phase::Landed
+                | Phase::Failed(_)
+                | Phase::Lost { .. }
+                | Phase::HandedOver { .. }
+        )
+    });
+    if !settled {
+        return Vec::new();
+    }
+    (0..drones.len())
+        .filter(|&i| matches!(drones[i].phase, Phase::AwaitLanding { .. }))
+        .filter(|&i| column_blocker(drones, i, safety_distance_m).is_some())
+        .collect()
+}
