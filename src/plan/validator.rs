@@ -196,6 +196,9 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
         .iter()
         .filter(|d| d.path.len() == expected_len)
         .collect();
+    // Only steps the paths really hold: a hostile `makespan_steps` of 4e9 with short
+    // paths must not spin here for hours.
+    let expected_len = if common.is_empty() { 0 } else { expected_len };
     for step in 0..expected_len {
         let mut here: HashMap<Voxel, &str> = HashMap::new();
         for d in &common {
@@ -292,4 +295,33 @@ fn rotations(drones: &[&super::discrete_plan::DronePlan], len: usize) -> Vec<Pla
         }
     }
     found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plan::{self, PlanOptions};
+
+    /// A hostile plan file may claim any makespan; the check must stay bounded by
+    /// the data it was given.
+    #[test]
+    fn absurd_makespan_with_short_paths_is_refused_at_once() {
+        let mission = crate::mission::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/missions/swap-corridor.yaml"
+        )))
+        .expect("mission");
+        let mut plan = plan::solve(&mission, &PlanOptions::default())
+            .expect("plan")
+            .plan;
+        plan.makespan_steps = u32::MAX - 1;
+        // Before the fix this looped ~4e9 times over the steps.
+        let violations = validate_plan(&mission, &plan).expect_err("refused");
+        assert!(
+            violations
+                .iter()
+                .any(|v| matches!(v, PlanViolation::PathLength { .. })),
+            "{violations:?}"
+        );
+    }
 }
