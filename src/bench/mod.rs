@@ -4,8 +4,10 @@
 //! a noisy shared machine shows as spread rather than as a wrong figure.
 
 pub mod fault_matrix;
+pub mod load;
 mod plan_suite;
 
+pub use load::{LoadOptions, LoadReport, run_load};
 pub use plan_suite::{PlanSuite, PlanSuiteReport, run_plan_suite};
 
 /// Median of a non-empty slice (the mean of the middle two for even lengths).

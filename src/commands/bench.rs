@@ -42,6 +42,25 @@ enum Target {
         #[arg(long, default_value_t = 10)]
         flights: usize,
     },
+    /// Plan and fly an N-drone mission on N bundled SITL vehicles in one process;
+    /// report planning time, CPU, setpoint timing, link, separation and memory.
+    Load {
+        /// Drones, one SITL vehicle each (1–254).
+        #[arg(long, default_value_t = 200)]
+        vehicles: usize,
+        /// Seeds the generated mission and the planner.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Planning runs (the table gives the median time).
+        #[arg(long, default_value_t = 3)]
+        plan_runs: usize,
+        /// Give up on the flight after this many seconds.
+        #[arg(long, default_value_t = 600.0)]
+        limit: f64,
+        /// Also write the generated mission here (YAML), for `swarmctl check`.
+        #[arg(long)]
+        mission_out: Option<std::path::PathBuf>,
+    },
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -57,7 +76,47 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             only,
         } => super::bench_flight::faults(&mission, reduced, only.as_deref()),
         Target::Soak { mission, flights } => super::bench_flight::soak(&mission, flights),
+        Target::Load {
+            vehicles,
+            seed,
+            plan_runs,
+            limit,
+            mission_out,
+        } => load(vehicles, seed, plan_runs, limit, mission_out.as_deref()),
     }
+}
+
+fn load(
+    vehicles: usize,
+    seed: u64,
+    plan_runs: usize,
+    limit: f64,
+    mission_out: Option<&std::path::Path>,
+) -> anyhow::Result<ExitCode> {
+    use swarmctl::bench::load;
+    let mut options = load::LoadOptions::new(vehicles, seed);
+    options.plan_runs = plan_runs;
+    options.limit = Duration::try_from_secs_f64(limit)?;
+    if let Some(path) = mission_out {
+        let file = load::load_mission(vehicles, seed)?;
+        std::fs::write(path, swarmctl::mission::to_yaml(&file))?;
+        eprintln!("mission written to {}", path.display());
+    }
+    eprintln!("planning {vehicles} drones ({plan_runs} runs) …");
+    let (mission, plan, times) = load::plan_load(&options)?;
+    eprintln!(
+        "planned in {:.3} s (median), makespan {} steps; flying on {vehicles} bundled SITL vehicles …",
+        median(&times),
+        plan.makespan_steps
+    );
+    let report = load::fly_load(&mission, &plan, times, &options)?;
+    eprintln!("{}", report.observed);
+    println!("{}", load::markdown_table(std::slice::from_ref(&report)));
+    Ok(if report.passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }
 
 fn plan(suite: PlanSuite, seeds: u64, deadline: f64) -> anyhow::Result<ExitCode> {
