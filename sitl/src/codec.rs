@@ -69,10 +69,18 @@ pub fn decode(datagram: &[u8], signing: Option<&Signing>) -> Decoded {
     out
 }
 
+/// The only incompatibility flag MAVLink 2 defines: the frame is signed.
+const IFLAG_SIGNED: u8 = 0x01;
+
 /// A CRC-valid MAVLink 2 frame starting at the first byte of `bytes`, if any.
+///
+/// A frame with an incompatibility flag other than "signed" is not one we
+/// understand, and the MAVLink 2 rule is to drop it, as PX4 and ArduPilot
+/// do. That includes rust-mavlink's non-standard 32-bit system id flag
+/// (0x02), which changes the header layout.
 fn frame_at(bytes: &[u8]) -> Option<MAVLinkV2MessageRaw> {
     const MIN_FRAME_BYTES: usize = 12; // STX + 9 header bytes + 2 CRC bytes
-    if bytes.len() < MIN_FRAME_BYTES {
+    if bytes.len() < MIN_FRAME_BYTES || bytes[2] & !IFLAG_SIGNED != 0 {
         return None;
     }
     let mut raw = MAVLinkV2MessageRaw::new();
@@ -169,6 +177,28 @@ mod tests {
         let sender = Signing::new([7; 32]);
         let good = decode(&encode(header(), &heartbeat(), Some(&sender)), Some(&ours));
         assert_eq!(good.messages.len(), 1);
+    }
+
+    #[test]
+    fn unknown_incompatibility_flags_are_dropped() {
+        for flag in [0x02u8, 0x04, 0x80] {
+            let mut frame = crate::forge::Frame::of_message(255, 190, 0, &heartbeat());
+            frame.incompat_flags = flag;
+            let mut bytes = frame.to_bytes();
+            // forge clears 0x02; set it by hand and fix the CRC.
+            bytes[2] = flag;
+            let crc_at = bytes.len() - 2;
+            let crc = mavlink::calculate_crc(&bytes[1..crc_at], crate::forge::crc_extra(0));
+            bytes[crc_at..].copy_from_slice(&crc.to_le_bytes());
+            let decoded = decode(&bytes, None);
+            assert!(
+                decoded.messages.is_empty() && decoded.rejected.is_empty(),
+                "flag {flag:#x}"
+            );
+        }
+        let mut good = encode(header(), &heartbeat(), None);
+        good.extend(encode(header(), &heartbeat(), None));
+        assert_eq!(decode(&good, None).messages.len(), 2);
     }
 
     #[test]

@@ -23,6 +23,8 @@ pub struct CommandParams(pub [f32; 7]);
 
 impl Vehicle {
     /// Handles one message from the wire. Never panics, whatever the content.
+    // SET_MODE is deprecated in favour of MAV_CMD_DO_SET_MODE but still sent by ground stations.
+    #[allow(deprecated)]
     pub fn handle(&mut self, header: MavHeader, message: &MavMessage) {
         if header.system_id == u32::from(self.system_id) {
             return; // our own echo, or a clone with our id: ignore
@@ -48,6 +50,18 @@ impl Vehicle {
             {
                 self.position_target_global(sp);
             }
+            MavMessage::SET_MODE(m) if m.target_system == self.system_id => {
+                // The (deprecated) message form of MAV_CMD_DO_SET_MODE: same
+                // rules, no COMMAND_ACK — the heartbeat shows the outcome.
+                let (custom, sub) = match self.flavour {
+                    Flavour::Px4 => (
+                        ((m.custom_mode >> 16) & 0xff) as f32,
+                        (m.custom_mode >> 24) as f32,
+                    ),
+                    Flavour::ArduPilot => (m.custom_mode as f32, 0.0),
+                };
+                let _ = self.set_mode_command(f32::from(m.base_mode.bits()), custom, sub);
+            }
             MavMessage::PARAM_SET(p) if self.addressed(p.target_system, p.target_component) => {
                 let name = p.param_id.to_str().unwrap_or("");
                 if let Some(echo) = self.params.set(name, p.param_value) {
@@ -68,9 +82,14 @@ impl Vehicle {
                 let all = self.params.list();
                 self.outbox.extend(all);
             }
-            MavMessage::TIMESYNC(t) if t.tc1 == 0 => {
+            // A request (tc1 = 0) for us or broadcast (0/0, as senders without
+            // the target extension fields send); one for another system is not ours to answer.
+            MavMessage::TIMESYNC(t)
+                if t.tc1 == 0 && self.addressed(t.target_system, t.target_component) =>
+            {
                 self.outbox.push(MavMessage::TIMESYNC(TIMESYNC_DATA {
-                    tc1: (self.time_s * 1e9) as i64,
+                    // Never 0: a tc1 of 0 would make the reply look like a request.
+                    tc1: ((self.time_s * 1e9) as i64).max(1),
                     ts1: t.ts1,
                     target_system: u8::try_from(header.system_id).unwrap_or(0),
                     target_component: header.component_id,

@@ -145,42 +145,57 @@ impl Body {
 /// Velocity the position loop asks for: feed-forward plus a gain on the
 /// position error, shaped so the vehicle can still stop within its
 /// acceleration limit, capped at the speed limit.
+///
+/// Computed in f64: a target 1e30 m away is finite in f32, but its squared
+/// distance is not, and f32 arithmetic would turn it into a NaN velocity.
 fn desired_velocity(body: &Body, setpoint: &Setpoint, limits: &Limits) -> Vec3 {
-    let mut error = [0.0f32; 3];
-    let mut feed_forward = [0.0f32; 3];
+    let mut error = [0.0f64; 3];
+    let mut feed_forward = [0.0f64; 3];
     for i in 0..3 {
         if let Some(target) = setpoint.position_ned_m[i].filter(|v| v.is_finite()) {
-            error[i] = target - body.position_ned_m[i];
+            error[i] = f64::from(target) - f64::from(body.position_ned_m[i]);
         }
         if let Some(v) = setpoint.velocity_ned_mps[i].filter(|v| v.is_finite()) {
-            feed_forward[i] = v;
+            feed_forward[i] = f64::from(v);
         }
     }
-    let distance_m = norm(error);
-    let mut correction = [0.0f32; 3];
+    let distance_m = norm_f64(error);
+    let mut correction = [0.0f64; 3];
     if distance_m > 1e-6 {
         // sqrt(2·(a/2)·d): the speed from which it can brake in d metres using
         // half its acceleration, leaving margin for the lag.
-        let braking_mps = (limits.max_accel_mps2 * distance_m).sqrt();
-        let speed_mps = (POSITION_GAIN_PER_S * distance_m).min(braking_mps);
+        let braking_mps = (f64::from(limits.max_accel_mps2) * distance_m).sqrt();
+        let speed_mps = (f64::from(POSITION_GAIN_PER_S) * distance_m).min(braking_mps);
         correction = error.map(|e| e / distance_m * speed_mps);
     }
-    clamp_norm(
-        std::array::from_fn(|i| feed_forward[i] + correction[i]),
-        limits.max_speed_mps,
-    )
+    let desired: [f64; 3] = std::array::from_fn(|i| feed_forward[i] + correction[i]);
+    let scale = clamp_scale(norm_f64(desired), limits.max_speed_mps);
+    desired.map(|c| (c * scale) as f32)
 }
 
-/// Euclidean norm of a 3-vector.
+/// Euclidean norm of a 3-vector, computed in f64 so squaring a large but
+/// finite component cannot overflow (the result is +∞ only if the norm
+/// itself exceeds `f32::MAX`).
 pub fn norm(v: Vec3) -> f32 {
+    norm_f64(v.map(f64::from)) as f32
+}
+
+fn norm_f64(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+/// Factor that scales a vector of norm `n` down to at most `limit` (1 if it is within).
+fn clamp_scale(n: f64, limit: f32) -> f64 {
+    let limit = f64::from(limit);
+    if n > limit && n > 0.0 { limit / n } else { 1.0 }
 }
 
 /// `v` scaled down, if needed, so its norm is at most `limit`.
 fn clamp_norm(v: Vec3, limit: f32) -> Vec3 {
-    let n = norm(v);
-    if n > limit && n > 0.0 {
-        v.map(|c| c * (limit / n))
+    let v64 = v.map(f64::from);
+    let scale = clamp_scale(norm_f64(v64), limit);
+    if scale < 1.0 {
+        v64.map(|c| (c * scale) as f32)
     } else {
         v
     }
@@ -323,5 +338,30 @@ mod tests {
         body.step(DT_S, &sp, &limits(), true);
         assert!((body.yaw_rad - std::f32::consts::FRAC_PI_2 * DT_S).abs() < 1e-6);
         assert!((wrap_pi(3.5) - (3.5 - std::f32::consts::TAU)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn huge_but_finite_targets_stay_finite() {
+        // Found by the receive-path fuzzer: a setpoint 1e30 m away made the
+        // f32 squared distance overflow and the velocity NaN.
+        for target in [
+            [0.0, 1e30, -3.0],
+            [f32::MAX, f32::MAX, f32::MIN],
+            [-3e38, 0.0, 0.0],
+        ] {
+            let mut body = airborne();
+            let sp = Setpoint {
+                velocity_ned_mps: [Some(f32::MAX), Some(1.0), Some(-720.0)],
+                ..Setpoint::hold(target)
+            };
+            for _ in 0..500 {
+                body.step(DT_S, &sp, &limits(), true);
+                let all = body.position_ned_m.iter().chain(&body.velocity_ned_mps);
+                assert!(all.copied().all(f32::is_finite), "{body:?}");
+                assert!(norm(body.velocity_ned_mps) <= 2.0 + 1e-4);
+            }
+        }
+        assert_eq!(norm([3e38, 3e38, 0.0]), f32::INFINITY);
+        assert_eq!(norm([3e20, 4e20, 0.0]), 5e20);
     }
 }

@@ -711,3 +711,51 @@ fn sensor_noise_is_deterministic_per_seed() {
     assert_eq!(sample(9), sample(9));
     assert_ne!(sample(9), sample(10));
 }
+
+#[test]
+#[allow(deprecated)] // SET_MODE
+fn set_mode_message_changes_mode_like_the_command() {
+    let set_mode = |target_system: u8, custom_mode: u32| {
+        MavMessage::SET_MODE(SET_MODE_DATA {
+            custom_mode,
+            target_system,
+            base_mode: MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
+        })
+    };
+    let mut px4 = vehicle(Flavour::Px4, Faults::default());
+    px4.handle(GCS, &set_mode(1, 0x0604_0000));
+    assert_eq!(px4.mode, FlightMode::Land);
+    px4.handle(GCS, &set_mode(2, 0x0304_0000));
+    assert_eq!(px4.mode, FlightMode::Land, "another system's SET_MODE");
+    px4.handle(GCS, &set_mode(1, 0x0006_0000));
+    assert_eq!(px4.mode, FlightMode::Land, "OFFBOARD still needs a stream");
+    let mut ap = vehicle(Flavour::ArduPilot, Faults::default());
+    ap.handle(GCS, &set_mode(1, 4));
+    assert_eq!(ap.mode, FlightMode::Guided);
+    ap.handle(GCS, &set_mode(1, u32::MAX));
+    assert_eq!(ap.mode, FlightMode::Guided);
+}
+
+#[test]
+fn timesync_requests_for_another_system_are_not_answered() {
+    // Found by the receive-path fuzzer: requests were answered whatever
+    // their target, and a reply at boot carried tc1 = 0 (a request).
+    let mut v = vehicle(Flavour::Px4, Faults::default());
+    let request = |target_system, target_component| {
+        MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1: 7,
+            target_system,
+            target_component,
+        })
+    };
+    for (system, component) in [(2, 1), (200, 0), (1, 50)] {
+        v.handle(GCS, &request(system, component));
+        assert!(
+            v.outbox.is_empty(),
+            "answered a request for {system}/{component}"
+        );
+    }
+    v.handle(GCS, &request(1, 1));
+    assert!(matches!(v.outbox.as_slice(), [MavMessage::TIMESYNC(t)] if t.tc1 > 0 && t.ts1 == 7));
+}
