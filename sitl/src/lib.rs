@@ -2,8 +2,10 @@
 //!
 //! Many vehicles run in one process (tokio). Each listens on its own UDP port,
 //! answers whoever spoke to it last, flies simple quadrotor dynamics and can
-//! be given faults (loss, latency, a slow drone, link drops, arming refusal,
-//! low battery) so flight code can be tested without hardware.
+//! be given faults (loss, duplication, reordering, latency, a slow drone,
+//! temporary or permanent link drops, arming refusal, a low battery and a
+//! critical-battery failsafe) so flight code can be tested without hardware.
+//! [`forge`] builds CRC-valid frames from arbitrary parts, for fuzzers.
 //!
 //! ```no_run
 //! # async fn demo() -> Result<(), swarmctl_sitl::SitlError> {
