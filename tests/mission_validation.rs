@@ -50,8 +50,45 @@ fn base_mission_is_valid() {
     assert_eq!(problems_of(BASE), vec![]);
 }
 
+#[test]
+fn signing_key_file_is_relative_to_the_mission() {
+    let yaml = BASE.replace(
+        "setpoint_rate_hz: 20 }",
+        "setpoint_rate_hz: 20, signing: { key_file: keys/swarm.key } }",
+    );
+    let m = mission::from_yaml(&yaml, "missions/x/case.yaml".as_ref()).expect("valid");
+    assert_eq!(
+        m.link.signing,
+        Some(mission::KeySource::File("missions/x/keys/swarm.key".into()))
+    );
+}
+
 /// (what, replace this, with this, expected path, expected words in the reason, has line)
 const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
+    (
+        "signing with no key source",
+        "setpoint_rate_hz: 20 }",
+        "setpoint_rate_hz: 20, signing: {} }",
+        "link.signing",
+        "needs key_file",
+        false,
+    ),
+    (
+        "signing with two key sources",
+        "setpoint_rate_hz: 20 }",
+        "setpoint_rate_hz: 20, signing: { key_file: k.key, key_env: K } }",
+        "link.signing",
+        "not both",
+        false,
+    ),
+    (
+        "signing key given inline",
+        "setpoint_rate_hz: 20 }",
+        "setpoint_rate_hz: 20, signing: { key: abcd } }",
+        "link.signing",
+        "unknown field",
+        true,
+    ),
     (
         "yaml syntax",
         "groups:\n",
