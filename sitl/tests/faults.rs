@@ -262,7 +262,7 @@ async fn low_battery_warns_then_critical_battery_lands() {
     assert!(text.starts_with("Low battery"), "{text}");
     let (mut saw_low_sys_status, mut saw_low_charge) = (false, false);
     client
-        .recv_until(Duration::from_millis(1500), |_, m| {
+        .recv_until(Duration::from_millis(2500), |_, m| {
             match m {
                 MavMessage::SYS_STATUS(s) => saw_low_sys_status |= s.battery_remaining <= 25,
                 MavMessage::BATTERY_STATUS(b) => {
