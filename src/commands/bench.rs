@@ -60,6 +60,10 @@ enum Target {
         /// Also write the generated mission here (YAML), for `swarmctl check`.
         #[arg(long)]
         mission_out: Option<std::path::PathBuf>,
+        /// Diagnostic: fly the controller outside tokio's cooperative budget
+        /// (`swarmctl fly` runs inside it).
+        #[arg(long)]
+        unconstrained: bool,
     },
 }
 
@@ -82,7 +86,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             plan_runs,
             limit,
             mission_out,
-        } => load(vehicles, seed, plan_runs, limit, mission_out.as_deref()),
+            unconstrained,
+        } => load(
+            vehicles,
+            seed,
+            plan_runs,
+            limit,
+            mission_out.as_deref(),
+            unconstrained,
+        ),
     }
 }
 
@@ -92,10 +104,12 @@ fn load(
     plan_runs: usize,
     limit: f64,
     mission_out: Option<&std::path::Path>,
+    unconstrained: bool,
 ) -> anyhow::Result<ExitCode> {
     use swarmctl::bench::load;
     let mut options = load::LoadOptions::new(vehicles, seed);
     options.plan_runs = plan_runs;
+    options.unconstrained = unconstrained;
     options.limit = Duration::try_from_secs_f64(limit)?;
     if let Some(path) = mission_out {
         let file = load::load_mission(vehicles, seed)?;
@@ -111,6 +125,18 @@ fn load(
     );
     let report = load::fly_load(&mission, &plan, times, &options)?;
     eprintln!("{}", report.observed);
+    if !report.passed()
+        && let Some(log) = &report.log
+    {
+        for e in &log.events {
+            eprintln!(
+                "{:7.1} s {} {}",
+                e.t_s,
+                e.drone.as_deref().unwrap_or("-"),
+                e.message
+            );
+        }
+    }
     println!("{}", load::markdown_table(std::slice::from_ref(&report)));
     Ok(if report.passed() {
         ExitCode::SUCCESS
