@@ -280,9 +280,12 @@ async fn watch_truth(swarm: &Swarm, done: &std::sync::atomic::AtomicBool) -> (f6
 }
 
 fn describe_error(e: &FlyError) -> String {
-    let text = e.to_string();
-    let first = text.lines().next().unwrap_or_default();
-    format!("refused: {first}")
+    let text: Vec<String> = e
+        .to_string()
+        .lines()
+        .map(|l| l.trim().to_string())
+        .collect();
+    format!("refused: {}", text.join(" "))
 }
 
 fn describe_log(log: &FlightLog) -> String {

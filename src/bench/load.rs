@@ -66,11 +66,6 @@ pub struct LoadOptions {
     pub plan_runs: usize,
     /// The whole flight must end within this.
     pub limit: Duration,
-    /// Diagnostic: run the controller outside tokio's cooperative scheduling budget
-    /// (`tokio::task::unconstrained`). `swarmctl fly` runs with the budget, so the
-    /// default is `false`; with it, a controller that polls more than the budget's
-    /// 128 join handles in one tick sees the later ones as unfinished.
-    pub unconstrained: bool,
 }
 
 impl LoadOptions {
@@ -81,7 +76,6 @@ impl LoadOptions {
             flavour: Flavour::Px4,
             plan_runs: 1,
             limit: Duration::from_secs(600),
-            unconstrained: false,
         }
     }
 }
@@ -328,11 +322,7 @@ pub fn fly_load(
     let (wall0, cpu0, sitl0) = (Instant::now(), process_cpu_s(), threads_cpu_s(SITL_THREAD));
     let result = controller_runtime.block_on(async {
         let flight = fly::fly(mission, plan, &fly_options, abort_rx);
-        if options.unconstrained {
-            tokio::time::timeout(options.limit, tokio::task::unconstrained(flight)).await
-        } else {
-            tokio::time::timeout(options.limit, flight).await
-        }
+        tokio::time::timeout(options.limit, flight).await
     });
     let (wall_s, total_s, sitl_s) = (
         wall0.elapsed().as_secs_f64(),

@@ -60,10 +60,6 @@ enum Target {
         /// Also write the generated mission here (YAML), for `swarmctl check`.
         #[arg(long)]
         mission_out: Option<std::path::PathBuf>,
-        /// Diagnostic: fly the controller outside tokio's cooperative budget
-        /// (`swarmctl fly` runs inside it).
-        #[arg(long)]
-        unconstrained: bool,
     },
 }
 
@@ -86,15 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             plan_runs,
             limit,
             mission_out,
-            unconstrained,
-        } => load(
-            vehicles,
-            seed,
-            plan_runs,
-            limit,
-            mission_out.as_deref(),
-            unconstrained,
-        ),
+        } => load(vehicles, seed, plan_runs, limit, mission_out.as_deref()),
     }
 }
 
@@ -104,12 +92,10 @@ fn load(
     plan_runs: usize,
     limit: f64,
     mission_out: Option<&std::path::Path>,
-    unconstrained: bool,
 ) -> anyhow::Result<ExitCode> {
     use swarmctl::bench::load;
     let mut options = load::LoadOptions::new(vehicles, seed);
     options.plan_runs = plan_runs;
-    options.unconstrained = unconstrained;
     options.limit = Duration::try_from_secs_f64(limit)?;
     if let Some(path) = mission_out {
         let file = load::load_mission(vehicles, seed)?;
