@@ -293,7 +293,7 @@ pub fn stranded(drones: &[DroneRun], safety_distance_m: f64) -> Vec<usize> {
     let settled = drones.iter().all(|d| {
         matches!(
             d.phase,
-            Phase::AwaitLanding { .. }
+            Phase::AwaitLanding
                 | Phase::Landed
                 | Phase::Failed(_)
                 | Phase::Lost { .. }
@@ -304,7 +304,7 @@ pub fn stranded(drones: &[DroneRun], safety_distance_m: f64) -> Vec<usize> {
         return Vec::new();
     }
     (0..drones.len())
-        .filter(|&i| matches!(drones[i].phase, Phase::AwaitLanding { .. }))
+        .filter(|&i| matches!(drones[i].phase, Phase::AwaitLanding))
         .filter(|&i| column_blocker(drones, i, safety_distance_m).is_some())
         .collect()
 }
