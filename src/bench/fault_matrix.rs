@@ -259,21 +259,12 @@ pub async fn run_scenario(
 /// Samples the simulator's true positions at 50 Hz until `done`: the smallest
 /// distance between two airborne vehicles, and whether anyone left the ground.
 async fn watch_truth(swarm: &Swarm, done: &std::sync::atomic::AtomicBool) -> (f64, bool) {
-    const AIRBORNE_M: f32 = 0.1;
     let mut min_m = f64::INFINITY;
     let mut ever_airborne = false;
+    let mut airborne = Vec::with_capacity(swarm.len());
     while !done.load(std::sync::atomic::Ordering::Relaxed) {
-        let airborne: Vec<[f32; 3]> = (0..swarm.len())
-            .map(|i| swarm.snapshot(i).position_ned_m)
-            .filter(|p| -p[2] > AIRBORNE_M)
-            .collect();
+        min_m = min_m.min(super::true_min_separation_m(swarm, &mut airborne));
         ever_airborne |= !airborne.is_empty();
-        for (k, a) in airborne.iter().enumerate() {
-            for b in &airborne[k + 1..] {
-                let d2: f32 = (0..3).map(|i| (a[i] - b[i]).powi(2)).sum();
-                min_m = min_m.min(f64::from(d2.sqrt()));
-            }
-        }
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
     (min_m, ever_airborne)

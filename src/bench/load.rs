@@ -521,7 +521,6 @@ struct Watched {
 /// Until `done`: the smallest true distance between two airborne vehicles (every
 /// [`TRUTH_PERIOD`]), and once a second memory, open files and CPU.
 fn watch(swarm: &Swarm, done: &AtomicBool) -> Watched {
-    const AIRBORNE_M: f32 = 0.1;
     let own0 = own_thread_cpu_s();
     let start = Instant::now();
     let mut min_m = f64::INFINITY;
@@ -532,20 +531,7 @@ fn watch(swarm: &Swarm, done: &AtomicBool) -> Watched {
     let mut next_sample = start;
     let mut airborne: Vec<[f32; 3]> = Vec::with_capacity(swarm.len());
     while !done.load(Ordering::Relaxed) {
-        airborne.clear();
-        airborne.extend(
-            (0..swarm.len())
-                .map(|i| swarm.snapshot(i).position_ned_m)
-                .filter(|p| -p[2] > AIRBORNE_M),
-        );
-        let mut min_d2 = f32::INFINITY;
-        for (k, a) in airborne.iter().enumerate() {
-            for b in &airborne[k + 1..] {
-                let d2 = (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2);
-                min_d2 = min_d2.min(d2);
-            }
-        }
-        min_m = min_m.min(f64::from(min_d2.sqrt()));
+        min_m = min_m.min(super::true_min_separation_m(swarm, &mut airborne));
         if Instant::now() >= next_sample {
             next_sample += Duration::from_secs(1);
             let usage = process_resources();

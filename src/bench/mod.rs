@@ -54,3 +54,25 @@ pub fn process_resources() -> ProcessResources {
         open_fds,
     }
 }
+
+/// Smallest distance between two airborne vehicles of a bundled-SITL swarm right
+/// now, from the simulator's true positions (∞ with fewer than two in the air).
+/// `airborne` is a reused buffer; afterwards it holds the airborne positions (NED).
+pub fn true_min_separation_m(swarm: &swarmctl_sitl::Swarm, airborne: &mut Vec<[f32; 3]>) -> f64 {
+    /// Below this height a vehicle is on the ground.
+    const AIRBORNE_M: f32 = 0.1;
+    airborne.clear();
+    airborne.extend(
+        (0..swarm.len())
+            .map(|i| swarm.snapshot(i).position_ned_m)
+            .filter(|p| -p[2] > AIRBORNE_M),
+    );
+    let mut min_d2 = f32::INFINITY;
+    for (k, a) in airborne.iter().enumerate() {
+        for b in &airborne[k + 1..] {
+            let d2 = (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2);
+            min_d2 = min_d2.min(d2);
+        }
+    }
+    f64::from(min_d2.sqrt())
+}
