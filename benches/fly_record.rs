@@ -2,11 +2,14 @@
 //!
 //! Goal: recording a 100-drone flight at 20 Hz costs under 5% of the flight's CPU.
 //! The real `fly::fly` flies `missions/paper-scale.yaml` (or `FLY_RECORD_MISSION`)
-//! against PX4-flavoured bundled SITL vehicles running in a child process (this
-//! binary re-executed, fresh for every flight), so only the controller's CPU is
-//! measured. Flights alternate without and with live recording
-//! (`swarmctl::record::LiveFlight` writing an `.rrd` file, exactly as `swarmctl
-//! fly` does) in this one process; `FLY_RECORD_RUNS` pairs (default 3).
+//! against PX4-flavoured bundled SITL vehicles running in a child process, so only
+//! the controller's CPU is measured. Flights alternate without and with live
+//! recording (`swarmctl::record::LiveFlight` writing an `.rrd` file, exactly as
+//! `swarmctl fly` does); `FLY_RECORD_RUNS` pairs (default 3). Every flight runs in
+//! a fresh controller process, as `swarmctl fly` does: rerun 0.36.3 leaks a
+//! batcher thread per recording (its blueprint's memory stream holds itself), and
+//! in one long-lived process those would pile up and tick during later flights.
+//! (This binary re-executes itself for both roles.)
 //!
 //! Two measures of the recording's share, each a median over the pairs:
 //!
@@ -38,6 +41,7 @@ use swarmctl::record::{LiveFlight, RecorderOptions, Sink};
 const ROLE_ENV: &str = "FLY_RECORD_ROLE";
 const MISSION_ENV: &str = "FLY_RECORD_MISSION";
 const PLAN_ENV: &str = "FLY_RECORD_PLAN";
+const RRD_ENV: &str = "FLY_RECORD_RRD";
 const DEFAULT_MISSION: &str = "missions/paper-scale.yaml";
 const GOAL_SHARE: f64 = 0.05;
 /// Threads that exist only to record (names as the kernel keeps them, 15 bytes).
@@ -50,8 +54,10 @@ const RECORDING_THREADS: [&str; 5] = [
 ];
 
 fn main() -> anyhow::Result<()> {
-    if std::env::var(ROLE_ENV).as_deref() == Ok("vehicles") {
-        return vehicles_main();
+    match std::env::var(ROLE_ENV).as_deref() {
+        Ok("vehicles") => return vehicles_main(),
+        Ok("controller") => return controller_main(),
+        _ => {}
     }
     let mission_path =
         PathBuf::from(std::env::var(MISSION_ENV).unwrap_or_else(|_| DEFAULT_MISSION.into()));
@@ -85,13 +91,7 @@ fn main() -> anyhow::Result<()> {
         let mut pair = [None, None];
         for record in order {
             let rrd = dir.path().join(format!("flight-{i}.rrd"));
-            let run = fly_once(
-                &mission_path,
-                &plan_file,
-                &mission,
-                &plan,
-                record.then_some((&rrd, &options)),
-            )?;
+            let run = controller(&mission_path, &plan_file, record.then_some(&rrd))?;
             println!("  pair {i} {}", run.describe());
             pair[usize::from(record)] = Some(run);
         }
@@ -108,7 +108,8 @@ fn env_parse<T: std::str::FromStr>(name: &str) -> Option<T> {
 }
 
 fn recorder_options() -> RecorderOptions {
-    let mut options = RecorderOptions::default();
+    // What `swarmctl fly` uses for its default sink, a file beside the log.
+    let mut options = RecorderOptions::for_sink(&Sink::File(PathBuf::new()));
     if let Some(s) = env_parse("FLY_RECORD_FLUSH_S") {
         options.flush_period_s = s;
     }
@@ -121,7 +122,52 @@ fn recorder_options() -> RecorderOptions {
     options
 }
 
+/// Runs one flight in a fresh controller process and reads back its measurements.
+fn controller(mission_path: &Path, plan_file: &Path, rrd: Option<&PathBuf>) -> anyhow::Result<Run> {
+    let mut cmd = Command::new(std::env::current_exe()?);
+    cmd.env(ROLE_ENV, "controller")
+        .env(MISSION_ENV, mission_path)
+        .env(PLAN_ENV, plan_file)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit());
+    if let Some(rrd) = rrd {
+        cmd.env(RRD_ENV, rrd);
+    }
+    let out = cmd.output().context("running the controller process")?;
+    if !out.status.success() {
+        bail!("the controller process failed ({})", out.status);
+    }
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let line = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("RESULT "))
+        .context("the controller process reported nothing")?;
+    Ok(serde_json::from_str(line)?)
+}
+
+/// Controller role: flies once (recording if `FLY_RECORD_RRD` is set) and prints
+/// its measurements as one `RESULT` line of JSON.
+fn controller_main() -> anyhow::Result<()> {
+    let mission_path = PathBuf::from(std::env::var(MISSION_ENV)?);
+    let plan_file = PathBuf::from(std::env::var(PLAN_ENV)?);
+    let mission = swarmctl::import::load_any(&mission_path, None)?;
+    let plan: DiscretePlan = serde_json::from_str(&std::fs::read_to_string(&plan_file)?)?;
+    let rrd = std::env::var_os(RRD_ENV).map(PathBuf::from);
+    let options = recorder_options();
+    let run = fly_once(
+        &mission_path,
+        &plan_file,
+        &mission,
+        &plan,
+        rrd.as_ref().map(|r| (r, &options)),
+    )?;
+    println!("RESULT {}", serde_json::to_string(&run)?);
+    Ok(())
+}
+
 /// One flight's measurements.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct Run {
     recorded: bool,
     wall_s: f64,
@@ -129,6 +175,9 @@ struct Run {
     process_cpu_s: f64,
     /// CPU of the recording-only threads plus the main thread's recorder start/finish.
     recording_cpu_s: f64,
+    /// Where `recording_cpu_s` went: the main thread starting and finishing the
+    /// recorder, then each recording thread by name.
+    breakdown: Vec<(String, f64)>,
     samples_logged: u64,
     samples_dropped: u64,
     rrd_mb: f64,
@@ -150,9 +199,13 @@ impl Run {
         );
         if self.recorded {
             s += &format!(
-                "; recording threads {:.3} s; {} samples, {} dropped; {:.1} MB",
+                "; recording {:.3} s; {} samples, {} dropped; {:.1} MB\n      recording CPU:",
                 self.recording_cpu_s, self.samples_logged, self.samples_dropped, self.rrd_mb
             );
+            for (what, cpu_s) in &self.breakdown {
+                s += &format!(" {what} {cpu_s:.3} s,");
+            }
+            s.pop();
         }
         if !self.completed {
             s += " (flight NOT completed)";
@@ -244,7 +297,7 @@ fn fly_against(
     let runtime = tokio::runtime::Runtime::new()?;
     let threads = ThreadSampler::start();
     let (cpu0_s, main0_s, wall0) = (cpu_s(libc::RUSAGE_SELF), main_cpu_s(), Instant::now());
-    let mut main_recording_s = 0.0;
+    let mut breakdown = Vec::new();
     let live = match record {
         Some((rrd, recorder_options)) => {
             let live = LiveFlight::start(
@@ -254,7 +307,7 @@ fn fly_against(
                 recorder_options.clone(),
             )?;
             options.observer = Some(live.observer());
-            main_recording_s += main_cpu_s() - main0_s;
+            breakdown.push(("start (main thread)".to_string(), main_cpu_s() - main0_s));
             Some(live)
         }
         None => None,
@@ -266,7 +319,7 @@ fn fly_against(
         Some(live) => {
             let before = main_cpu_s();
             let stats = live.finish(&log)?;
-            main_recording_s += main_cpu_s() - before;
+            breakdown.push(("finish (main thread)".to_string(), main_cpu_s() - before));
             Some(stats)
         }
         None => None,
@@ -278,20 +331,20 @@ fn fly_against(
     let (by_name, sampler_cpu_s) = threads.stop();
     let process_cpu_s = process_cpu_s - sampler_cpu_s;
     drop(runtime);
-    let recording_threads_s: f64 = by_name
-        .iter()
-        .filter(|(name, _)| RECORDING_THREADS.contains(&name.as_str()))
-        .map(|(_, cpu)| cpu)
-        .sum();
+    if record.is_some() {
+        breakdown.extend(
+            by_name
+                .into_iter()
+                .filter(|(name, _)| RECORDING_THREADS.contains(&name.as_str())),
+        );
+    }
+    let recording_cpu_s = breakdown.iter().map(|(_, cpu_s)| cpu_s).sum();
     Ok(Run {
         recorded: record.is_some(),
         wall_s,
         process_cpu_s,
-        recording_cpu_s: if record.is_some() {
-            recording_threads_s + main_recording_s
-        } else {
-            0.0
-        },
+        recording_cpu_s,
+        breakdown,
         samples_logged: stats.map_or(0, |s| s.samples_logged),
         samples_dropped: stats.map_or(0, |s| s.samples_dropped),
         rrd_mb: record
@@ -340,9 +393,13 @@ fn main_cpu_s() -> f64 {
 /// (all but their last moments).
 struct ThreadSampler {
     stop: Arc<AtomicBool>,
-    thread: std::thread::JoinHandle<(HashMap<u32, (String, f64)>, f64)>,
+    /// Returns the latest reading per thread and the sampler's own CPU.
+    thread: std::thread::JoinHandle<(ThreadCpu, f64)>,
     start: HashMap<u32, f64>,
 }
+
+/// Thread id to (name, CPU seconds).
+type ThreadCpu = HashMap<u32, (String, f64)>;
 
 impl ThreadSampler {
     fn start() -> Self {
@@ -382,7 +439,7 @@ impl ThreadSampler {
 }
 
 /// (name, CPU seconds) of every thread of this process, from schedstat (ns).
-fn read_threads() -> HashMap<u32, (String, f64)> {
+fn read_threads() -> ThreadCpu {
     let mut out = HashMap::new();
     let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
         return out;

@@ -234,7 +234,7 @@ fn start_recording(
     log_path: &Path,
 ) -> Option<(LiveFlight, Sink)> {
     let sink = args.viewer.sink_or_beside(log_path);
-    match LiveFlight::start(mission, plan, &sink, RecorderOptions::default()) {
+    match LiveFlight::start(mission, plan, &sink, RecorderOptions::for_sink(&sink)) {
         Ok(recording) => Some((recording, sink)),
         Err(e) => {
             eprintln!("warning: flying without a Rerun recording: {e:#}");

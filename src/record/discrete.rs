@@ -1,7 +1,7 @@
 //! A bare discrete plan (what `swarmctl fly` holds) compiled for recording.
 
 use super::RecordError;
-use crate::compiled::{self, CompiledPlan};
+use crate::compiled::{self, CompiledDrone, CompiledPlan};
 use crate::mission::Mission;
 use crate::plan::{DiscretePlan, PlanStats, Solution};
 
@@ -17,4 +17,31 @@ pub fn schedule_discrete(
         stats: PlanStats::default(),
     };
     Ok(compiled::compile(mission, &solution)?)
+}
+
+/// The scene `swarmctl fly` records: the plan scheduled and sampled exactly as the
+/// executor will fly it, without the separation checker `swarmctl plan` runs (the
+/// executor does not run it either), so that starting a recording costs little.
+pub fn scheduled_scene(
+    mission: &Mission,
+    plan: &DiscretePlan,
+) -> Result<swarmctl_viz::Scene, RecordError> {
+    let schedule_err = |e| RecordError::Compile(compiled::CompileError::Schedule(e));
+    let tpg = crate::schedule::build(mission, plan).map_err(schedule_err)?;
+    let schedule = crate::schedule::solve(&tpg).map_err(schedule_err)?;
+    let execution = crate::schedule::execution_plan(&tpg, &schedule);
+    let samples = crate::trajectory::from_schedule(&schedule).sample(mission.link.setpoint_rate_hz);
+    let drones: Vec<CompiledDrone> = plan
+        .drones
+        .iter()
+        .zip(samples)
+        .map(|(d, trajectory)| CompiledDrone {
+            id: d.id.clone(),
+            group: d.group.clone(),
+            goal: d.goal,
+            path: d.path.clone(),
+            trajectory,
+        })
+        .collect();
+    Ok(super::plan::drones_scene(mission, &drones, &execution))
 }

@@ -67,7 +67,7 @@ pub fn record_flight(
             offset_s,
         });
     }
-    let recorder = Recorder::start(sink, &scene, &axes, RecorderOptions::default())?;
+    let recorder = Recorder::start(sink, &scene, &axes, RecorderOptions::for_sink(sink))?;
     let handle = recorder.handle();
     let mut samples: Vec<FlightSample> = log
         .drones

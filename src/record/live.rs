@@ -7,7 +7,7 @@
 //! Rerun calls happen on the recorder's own thread, which also keeps rerun's
 //! per-thread current time away from the executor's tasks.
 
-use super::{RecordError, Sink, flight::PLAN_START_EVENT, mission_scene, plan_scene, prepare};
+use super::{RecordError, Sink, flight::PLAN_START_EVENT, mission_scene, prepare};
 use crate::fly::log::LogEvent;
 use crate::fly::{FlightLog, FlightObserver};
 use crate::mission::Mission;
@@ -68,10 +68,8 @@ impl LiveFlight {
         options: RecorderOptions,
     ) -> Result<Self, RecordError> {
         prepare(sink)?;
-        let scene = match super::schedule_discrete(mission, plan) {
-            Ok(compiled) => plan_scene(mission, &compiled),
-            Err(_) => mission_scene(mission),
-        };
+        let scene =
+            super::scheduled_scene(mission, plan).unwrap_or_else(|_| mission_scene(mission));
         let scene_index = plan
             .drones
             .iter()

@@ -13,7 +13,7 @@ mod mission;
 mod plan;
 
 pub use args::ViewerArgs;
-pub use discrete::schedule_discrete;
+pub use discrete::{schedule_discrete, scheduled_scene};
 pub use flight::{flight_plan_offset_s, record_flight};
 pub use live::LiveFlight;
 pub use mission::mission_scene;

@@ -1,7 +1,7 @@
 //! A compiled plan as a `viz::Scene`: voxel paths, trajectories and TPG waits.
 
 use super::{RecordError, Sink, mission_scene, prepare};
-use crate::compiled::CompiledPlan;
+use crate::compiled::{CompiledDrone, CompiledPlan};
 use crate::mission::Mission;
 use crate::schedule::{EventKind, ExecutionPlan};
 use swarmctl_viz::{Drone, PlanEvent, Scene, TimeAxis};
@@ -11,6 +11,15 @@ const MIN_WAIT_S: f64 = 1e-3;
 
 /// The mission's world with the plan's drones: goals as assigned, paths, trajectories.
 pub fn plan_scene(mission: &Mission, plan: &CompiledPlan) -> Scene {
+    drones_scene(mission, &plan.drones, &plan.execution)
+}
+
+/// The mission's world with `drones` (paths, trajectories) and the TPG waits of `execution`.
+pub(crate) fn drones_scene(
+    mission: &Mission,
+    drones: &[CompiledDrone],
+    execution: &ExecutionPlan,
+) -> Scene {
     let mut scene = mission_scene(mission);
     let center = |v| {
         let p = mission.world.center_m(v);
@@ -23,8 +32,7 @@ pub fn plan_scene(mission: &Mission, plan: &CompiledPlan) -> Scene {
             .position(|g| g.name == name)
             .unwrap_or(0)
     };
-    scene.drones = plan
-        .drones
+    scene.drones = drones
         .iter()
         .map(|d| {
             let mut path_m: Vec<[f64; 3]> = Vec::with_capacity(d.path.len());
@@ -44,7 +52,7 @@ pub fn plan_scene(mission: &Mission, plan: &CompiledPlan) -> Scene {
             }
         })
         .collect();
-    scene.events = waits(&plan.execution);
+    scene.events = waits(execution);
     scene
 }
 
@@ -62,7 +70,9 @@ pub(crate) fn waits(execution: &ExecutionPlan) -> Vec<PlanEvent> {
         for (i, e) in drone.events.iter().enumerate() {
             let dwell_s = e.leave_s - e.reach_s;
             let rests = matches!(e.kind, EventKind::Start | EventKind::Arrive);
-            if !rests || i + 1 == drone.events.len() || !(dwell_s > MIN_WAIT_S) {
+            // Also skips a NaN dwell.
+            let waits = dwell_s.partial_cmp(&MIN_WAIT_S) == Some(std::cmp::Ordering::Greater);
+            if !rests || i + 1 == drone.events.len() || !waits {
                 continue;
             }
             let blockers: Vec<String> = drone.events[i + 1..]

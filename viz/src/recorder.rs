@@ -1,16 +1,21 @@
 //! The streaming flight recorder: telemetry in, Rerun out, on its own OS thread.
 //!
-//! Flying must never wait for logging. The executor hands samples over a bounded
-//! channel with [`RecorderHandle::try_sample`], which never blocks: when the
-//! channel is full the sample is dropped and counted. The recorder thread does not
-//! wake per sample: it sleeps for `poll_period_s`, then drains the channel.
+//! Flying must never wait for logging. The executor hands samples over with
+//! [`RecorderHandle::try_sample`], which never blocks: it appends to a bounded
+//! buffer under a lock it only *tries* to take, and when the buffer is full (or,
+//! rarely, the recorder is swapping it out at that instant) the sample is dropped
+//! and counted. Appending to a plain buffer costs the sender less than a channel
+//! slot per sample. Events and control messages go through a bounded channel,
+//! also with `try_send`. The recorder thread does not wake per sample: it sleeps
+//! for `poll_period_s`, then takes the whole buffer at once (every wake-up has a
+//! price, high in a virtual machine, so it wakes rarely).
 //!
 //! What it logs is built to cost little next to the flight itself:
 //!
 //! - positions as rows on a `row_period_s` grid, each row holding every drone's
-//!   newest position (one entity for all drones, another for their safety spheres);
-//! - speeds (one series per drone, also one entity) and the swarm's minimum
-//!   separation on a coarser `series_period_s` grid;
+//!   newest position (one entity for all drones);
+//! - the safety spheres, speeds (one series per drone, also one entity each) and
+//!   the swarm's minimum separation on a coarser `series_period_s` grid;
 //! - everything buffered and sent as columns every `flush_period_s`: a handful of
 //!   chunks per flush, whatever the number of drones;
 //! - the flown paths once, at the end; events as they come.
@@ -22,9 +27,9 @@ use crate::plan::{PlanRows, log_err};
 use crate::style::f32x3;
 use crate::{Scene, TimeAxis, VizError, metrics, paths, swarm};
 use rerun::RecordingStream;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, SyncSender, TryRecvError, TrySendError, sync_channel};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -40,18 +45,23 @@ pub struct FlightSample {
 /// Tuning for the recorder thread.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RecorderOptions {
-    /// Channel capacity in messages; beyond it samples are dropped.
+    /// Samples waiting for the recorder (between its wake-ups) beyond which
+    /// new ones are dropped.
     pub capacity: usize,
     /// How long the recorder thread sleeps between draining the channel,
-    /// wall-clock seconds. The channel must hold this long's worth of samples.
+    /// wall-clock seconds. The channel must hold this long's worth of samples;
+    /// finishing does not wait for it.
     pub poll_period_s: f64,
     /// How often buffered rows are sent to the stream, wall-clock seconds: a viewer
-    /// lags the flight by up to this much. Each flush sends about five chunks.
+    /// lags the flight by up to this much. Each flush sends four chunks, and every
+    /// chunk costs a fixed amount to encode and write (most of the recording's
+    /// cost in rerun's threads), so [`RecorderOptions::for_sink`] flushes files
+    /// less often than viewers.
     pub flush_period_s: f64,
     /// Spacing of position rows, flight seconds (each row holds every drone).
     pub row_period_s: f64,
-    /// Spacing of the speed and minimum-separation series, flight seconds
-    /// (rounded to a whole number of rows).
+    /// Spacing of the safety spheres, speeds and minimum separation, flight
+    /// seconds (rounded to a whole number of rows).
     pub series_period_s: f64,
     /// A flown position is added to the drawn path only after moving this far, metres.
     pub path_step_m: f64,
@@ -63,13 +73,28 @@ pub struct RecorderOptions {
 impl Default for RecorderOptions {
     fn default() -> Self {
         Self {
-            capacity: 16_384,
-            poll_period_s: 0.1,
-            flush_period_s: 1.0,
+            capacity: 8192,
+            poll_period_s: 0.5,
+            flush_period_s: 2.0,
             row_period_s: 0.05,
             series_period_s: 0.1,
-            path_step_m: 0.02,
+            path_step_m: 0.05,
             first_row_wait_s: 1.0,
+        }
+    }
+}
+
+impl RecorderOptions {
+    /// The defaults, flushing every second for a viewer watching live and every
+    /// 5 s for a file, which nobody reads before the flight ends.
+    pub fn for_sink(sink: &crate::Sink) -> Self {
+        let flush_period_s = match sink {
+            crate::Sink::File(_) => 5.0,
+            crate::Sink::Spawn | crate::Sink::Connect(_) => 1.0,
+        };
+        Self {
+            flush_period_s,
+            ..Self::default()
         }
     }
 }
@@ -91,25 +116,80 @@ pub struct RecorderStats {
     pub thread_wall_s: f64,
 }
 
+/// What goes through the control channel (rarely: events, the plan's start, the end).
 enum Message {
-    Sample(FlightSample),
-    Event {
-        t_s: f64,
-        drone: Option<String>,
-        text: String,
-    },
+    Event(Box<Event>),
     /// Plan execution began at this flight time: log the plan on the flight timeline.
     PlanStart(f64),
     /// Log what is queued before this, flush and stop (handles may still exist).
     Finish,
 }
 
+/// A sample as queued: 24 bytes, positions in `f32` (what the recording stores
+/// anyway), so the buffer the executor writes stays small and in cache.
+#[derive(Clone, Copy)]
+struct Compact {
+    drone: u32,
+    position_m: [f32; 3],
+    t_s: f64,
+}
+
+impl From<FlightSample> for Compact {
+    fn from(s: FlightSample) -> Self {
+        Self {
+            // An index past u32 is as unknown as any other: dropped and counted there.
+            drone: u32::try_from(s.drone).unwrap_or(u32::MAX),
+            position_m: f32x3(s.position_m),
+            t_s: s.t_s,
+        }
+    }
+}
+
+impl From<Compact> for FlightSample {
+    fn from(c: Compact) -> Self {
+        Self {
+            drone: usize::try_from(c.drone).unwrap_or(usize::MAX),
+            t_s: c.t_s,
+            position_m: c.position_m.map(f64::from),
+        }
+    }
+}
+
+/// Samples waiting for the recorder thread, which swaps the whole buffer out.
+struct Samples {
+    queue: Mutex<Vec<Compact>>,
+    capacity: usize,
+    /// Set once the recorder thread has stopped: later samples are dropped.
+    closed: AtomicBool,
+}
+
+/// Marks the samples closed when the recorder thread ends, however it ends.
+struct CloseOnDrop(Arc<Samples>);
+
+impl Drop for CloseOnDrop {
+    fn drop(&mut self) {
+        self.0.closed.store(true, Ordering::Release);
+    }
+}
+
+/// Control messages queued at most (events are rare).
+const CONTROL_CAPACITY: usize = 1024;
+
+struct Event {
+    t_s: f64,
+    drone: Option<String>,
+    text: String,
+}
+
 /// A cheap, cloneable sending side for the executor's tasks.
 #[derive(Clone)]
 pub struct RecorderHandle {
     tx: SyncSender<Message>,
+    samples: Arc<Samples>,
     dropped: Arc<AtomicU64>,
     events_dropped: Arc<AtomicU64>,
+    /// The recorder thread, to wake it when a blocking send finds the channel full.
+    thread: std::thread::Thread,
 }
 
 /// Owns the recorder thread; [`Recorder::finish`] flushes and joins it (so does
@@ -122,29 +202,63 @@ pub struct Recorder {
 impl RecorderHandle {
     /// Queues a sample without blocking; returns false (and counts it) if dropped.
     pub fn try_sample(&self, sample: FlightSample) -> bool {
-        match self.tx.try_send(Message::Sample(sample)) {
-            Ok(()) => true,
-            Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) => {
-                self.dropped.fetch_add(1, Ordering::Relaxed);
-                false
-            }
+        let samples = &*self.samples;
+        let queued = !samples.closed.load(Ordering::Relaxed)
+            && samples.queue.try_lock().is_ok_and(|mut queue| {
+                let room = queue.len() < samples.capacity;
+                if room {
+                    queue.push(sample.into());
+                }
+                room
+            });
+        if !queued {
+            self.dropped.fetch_add(1, Ordering::Relaxed);
         }
+        queued
     }
 
     /// Queues a sample, waiting for room: for replays, where nothing is flying.
     pub fn sample_blocking(&self, sample: FlightSample) -> Result<(), VizError> {
-        self.tx
-            .send(Message::Sample(sample))
-            .map_err(|_| VizError::RecorderGone)
+        let compact = Compact::from(sample);
+        loop {
+            if self.samples.closed.load(Ordering::Acquire) {
+                return Err(VizError::RecorderGone);
+            }
+            {
+                let mut queue = self
+                    .samples
+                    .queue
+                    .lock()
+                    .map_err(|_| VizError::RecorderGone)?;
+                if queue.len() < self.samples.capacity {
+                    queue.push(compact);
+                    return Ok(());
+                }
+            }
+            self.thread.unpark();
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    /// Sends, waking the recorder first if the channel is full.
+    fn send_blocking(&self, message: Message) -> Result<(), VizError> {
+        match self.tx.try_send(message) {
+            Ok(()) => Ok(()),
+            Err(TrySendError::Full(message)) => {
+                self.thread.unpark();
+                self.tx.send(message).map_err(|_| VizError::RecorderGone)
+            }
+            Err(TrySendError::Disconnected(_)) => Err(VizError::RecorderGone),
+        }
     }
 
     /// Queues a text event without blocking; returns false (and counts it) if dropped.
     pub fn try_event(&self, t_s: f64, drone: Option<&str>, text: &str) -> bool {
-        let message = Message::Event {
+        let message = Message::Event(Box::new(Event {
             t_s,
             drone: drone.map(str::to_string),
             text: text.to_string(),
-        };
+        }));
         let sent = self.tx.try_send(message).is_ok();
         if !sent {
             self.events_dropped.fetch_add(1, Ordering::Relaxed);
@@ -159,12 +273,12 @@ impl RecorderHandle {
         drone: Option<&str>,
         text: &str,
     ) -> Result<(), VizError> {
-        let message = Message::Event {
+        let message = Message::Event(Box::new(Event {
             t_s,
             drone: drone.map(str::to_string),
             text: text.to_string(),
-        };
-        self.tx.send(message).map_err(|_| VizError::RecorderGone)
+        }));
+        self.send_blocking(message)
     }
 
     /// Plan execution began `t_s` seconds into the flight: the plan is logged on
@@ -176,9 +290,7 @@ impl RecorderHandle {
 
     /// [`Self::try_plan_start`], waiting for room: once nothing is flying.
     pub fn plan_start_blocking(&self, t_s: f64) -> Result<(), VizError> {
-        self.tx
-            .send(Message::PlanStart(t_s))
-            .map_err(|_| VizError::RecorderGone)
+        self.send_blocking(Message::PlanStart(t_s))
     }
 }
 
@@ -198,20 +310,30 @@ impl Recorder {
         let members: Vec<usize> = (0..scene.drones.len()).collect();
         swarm::log_styles(&rec, scene, "flight", &members)?;
         swarm::log_series_styles(&rec, "flight")?;
-        let (tx, rx) = sync_channel(options.capacity.max(1));
+        let (tx, rx) = sync_channel(CONTROL_CAPACITY);
+        let capacity = options.capacity.max(1);
+        let samples = Arc::new(Samples {
+            queue: Mutex::new(Vec::with_capacity(capacity)),
+            capacity,
+            closed: AtomicBool::new(false),
+        });
         let dropped = Arc::new(AtomicU64::new(0));
         let events_dropped = Arc::new(AtomicU64::new(0));
         let worker = Worker::new(rec, scene, plan, options, Arc::clone(&dropped));
+        let queue = CloseOnDrop(Arc::clone(&samples));
         let thread = std::thread::Builder::new()
             .name("rerun-recorder".into())
-            .spawn(move || worker.run(rx))
+            .spawn(move || worker.run(rx, queue))
             .map_err(|_| VizError::RecorderGone)?;
+        let handle = RecorderHandle {
+            tx,
+            samples,
+            dropped,
+            events_dropped,
+            thread: thread.thread().clone(),
+        };
         Ok(Self {
-            handle: RecorderHandle {
-                tx,
-                dropped,
-                events_dropped,
-            },
+            handle,
             thread: Some(thread),
         })
     }
@@ -234,7 +356,9 @@ impl Recorder {
     fn stop(&mut self) -> Result<RecorderStats, VizError> {
         let thread = self.thread.take().ok_or(VizError::RecorderGone)?;
         // Fails only if the thread already stopped (on an error it will report).
-        let _ = self.handle.tx.send(Message::Finish);
+        let _ = self.handle.send_blocking(Message::Finish);
+        // Cut its sleep short.
+        thread.thread().unpark();
         thread.join().map_err(|_| VizError::RecorderGone)?
     }
 }
@@ -278,9 +402,11 @@ struct Worker {
     row_times_s: Vec<f64>,
     row_positions: Vec<[f32; 3]>,
     series_times_s: Vec<f64>,
+    /// Safety-sphere centres at the series times: every drone per row.
+    series_positions: Vec<[f32; 3]>,
     series_speeds: Vec<f64>,
     separation: Vec<(f64, f64)>,
-    scratch: Vec<[f64; 3]>,
+    pairwise: metrics::Pairwise,
     dropped: Arc<AtomicU64>,
     logged: u64,
     rows_logged: u64,
@@ -318,48 +444,60 @@ impl Worker {
             row_times_s: Vec::new(),
             row_positions: Vec::new(),
             series_times_s: Vec::new(),
+            series_positions: Vec::new(),
             series_speeds: Vec::new(),
             separation: Vec::new(),
-            scratch: Vec::new(),
+            pairwise: metrics::Pairwise::default(),
             dropped,
             logged: 0,
             rows_logged: 0,
         }
     }
 
-    fn run(mut self, rx: Receiver<Message>) -> Result<RecorderStats, VizError> {
+    fn run(
+        mut self,
+        rx: Receiver<Message>,
+        samples: CloseOnDrop,
+    ) -> Result<RecorderStats, VizError> {
         let started = Instant::now();
-        let poll = Duration::from_secs_f64(self.options.poll_period_s.clamp(0.001, 1.0));
+        let poll = Duration::from_secs_f64(self.options.poll_period_s.clamp(0.001, 5.0));
         let flush_period = Duration::from_secs_f64(self.options.flush_period_s.max(0.001));
-        // Drained this many at once: the channel was filling, so poll again at once.
+        // Took this many at once: the buffer was filling, so look again at once.
         let busy = (self.options.capacity / 4).max(1);
         let mut next_flush = Instant::now() + flush_period;
         let mut open = true;
+        let mut taken: Vec<Compact> = Vec::with_capacity(self.options.capacity.max(1));
         while open {
-            let mut drained = 0;
+            // Control first: once `Finish` is seen, every sample queued before it is
+            // in the buffer taken below.
             loop {
                 match rx.try_recv() {
-                    Ok(Message::Finish) => {
+                    Ok(Message::Finish) | Err(TryRecvError::Disconnected) => {
                         open = false;
                         break;
                     }
-                    Ok(message) => {
-                        self.handle(message)?;
-                        drained += 1;
-                    }
+                    Ok(message) => self.handle(message)?,
                     Err(TryRecvError::Empty) => break,
-                    Err(TryRecvError::Disconnected) => {
-                        open = false;
-                        break;
-                    }
                 }
+            }
+            {
+                // A poisoned lock only means a sender panicked mid-push: the data is fine.
+                let mut queue = samples.0.queue.lock().unwrap_or_else(|e| e.into_inner());
+                std::mem::swap(&mut *queue, &mut taken);
+            }
+            let drained = taken.len();
+            for compact in taken.drain(..) {
+                self.sample(compact.into());
             }
             if Instant::now() >= next_flush {
                 self.flush()?;
                 next_flush = Instant::now() + flush_period;
             }
             if open && drained < busy {
-                std::thread::sleep(poll);
+                // Woken early only by `Recorder::stop` (or spuriously: harmless).
+                std::thread::park_timeout(
+                    poll.min(next_flush.saturating_duration_since(Instant::now())),
+                );
             }
         }
         self.close_rows(f64::INFINITY);
@@ -380,11 +518,7 @@ impl Worker {
 
     fn handle(&mut self, message: Message) -> Result<(), VizError> {
         match message {
-            Message::Sample(s) => {
-                self.sample(s);
-                Ok(())
-            }
-            Message::Event { t_s, drone, text } => self.event(t_s, drone.as_deref(), &text),
+            Message::Event(e) => self.event(e.t_s, e.drone.as_deref(), &e.text),
             Message::PlanStart(t_s) => self.plan_start(t_s),
             Message::Finish => Ok(()),
         }
@@ -450,13 +584,10 @@ impl Worker {
     fn close_row(&mut self, t_s: f64) {
         self.row_times_s.push(t_s);
         self.rows_logged += 1;
-        self.scratch.clear();
+        let row_start = self.row_positions.len();
         for (track, drone) in self.tracks.iter().zip(&self.scene.drones) {
             let p = track.latest.map_or(drone.start_m, |(_, p)| p);
             self.row_positions.push(f32x3(p));
-            if track.latest.is_some() {
-                self.scratch.push(p);
-            }
         }
         self.rows_since_series += 1;
         if self.rows_since_series < self.rows_per_series {
@@ -464,6 +595,8 @@ impl Worker {
         }
         self.rows_since_series = 0;
         self.series_times_s.push(t_s);
+        self.series_positions
+            .extend_from_slice(&self.row_positions[row_start..]);
         for track in &mut self.tracks {
             if let (Some((t1, p1)), Some((t0, p0))) = (track.latest, track.anchor)
                 && t1 > t0
@@ -474,7 +607,8 @@ impl Worker {
             }
             self.series_speeds.push(track.speed_mps);
         }
-        if let Some(d) = metrics::min_pairwise_m(&self.scratch) {
+        let reported = self.tracks.iter().filter_map(|t| t.latest.map(|(_, p)| p));
+        if let Some(d) = self.pairwise.min_m(reported) {
             self.separation.push((t_s, d));
         }
     }
@@ -504,15 +638,26 @@ impl Worker {
         crate::plan::log_plan_axis(&self.rec, &self.plan, &axis)
     }
 
-    /// Sends the buffered rows and series as columns: a few chunks in all.
+    /// Sends the buffered rows and series as columns: five chunks in all.
     fn flush(&mut self) -> Result<(), VizError> {
         let n = self.tracks.len();
-        let times = std::mem::take(&mut self.row_times_s);
-        let positions = std::mem::take(&mut self.row_positions);
-        swarm::send_positions(&self.rec, "flight", &self.axis, &times, n, positions)?;
-        let times = std::mem::take(&mut self.series_times_s);
+        let (rec, axis) = (&self.rec, &self.axis);
+        swarm::send_points(
+            rec,
+            "flight",
+            axis,
+            &self.row_times_s,
+            n,
+            &self.row_positions,
+        )?;
+        self.row_times_s.clear();
+        self.row_positions.clear();
+        let times = &self.series_times_s;
+        swarm::send_spheres(rec, "flight", axis, times, n, &self.series_positions)?;
         let speeds = std::mem::take(&mut self.series_speeds);
-        swarm::send_speeds(&self.rec, "flight", &self.axis, &times, n, speeds)?;
+        swarm::send_speeds(rec, "flight", axis, times, n, speeds)?;
+        self.series_times_s.clear();
+        self.series_positions.clear();
         let separation = std::mem::take(&mut self.separation);
         swarm::send_series(
             &self.rec,
@@ -564,6 +709,11 @@ fn thread_cpu_s() -> f64 {
 mod tests {
     use super::*;
     use crate::Drone;
+
+    #[test]
+    fn queued_samples_stay_small() {
+        assert_eq!(std::mem::size_of::<Compact>(), 24);
+    }
 
     fn scene(n: usize) -> Scene {
         Scene {

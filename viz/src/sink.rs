@@ -29,8 +29,9 @@ impl Sink {
 
 /// How often rerun's batcher thread wakes to send logged rows (static styles and
 /// events; the bulk goes as ready-made columns, which skip the batcher's wait).
-/// Rerun's default for a viewer is 8 ms, 125 wake-ups a second for nothing here.
-const BATCHER_TICK: Duration = Duration::from_millis(250);
+/// Rerun's default for a viewer is 8 ms: 125 wake-ups a second for nothing here,
+/// and a wake-up costs tens of microseconds in a virtual machine.
+const BATCHER_TICK: Duration = Duration::from_secs(1);
 
 /// Opens a recording with the swarmctl blueprint (3D view beside the time
 /// series), showing `timeline` first.

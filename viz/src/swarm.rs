@@ -14,39 +14,52 @@ fn times(axis: &TimeAxis, times_s: &[f64]) -> TimeColumn {
     TimeColumn::new_duration_secs(axis.timeline, times_s.iter().map(|t| t + axis.offset_s))
 }
 
-/// Sends rows of positions: `positions` holds `times_s.len()` rows of `drones`
-/// entries each, row after row. Each row becomes one batch of points and one of
-/// safety-sphere centres.
-pub(crate) fn send_positions(
+/// Sends rows of positions as points: `positions` holds `times_s.len()` rows of
+/// `drones` entries each, row after row.
+pub(crate) fn send_points(
     rec: &RecordingStream,
     kind: &str,
     axis: &TimeAxis,
     times_s: &[f64],
     drones: usize,
-    positions: Vec<[f32; 3]>,
+    positions: &[[f32; 3]],
 ) -> Result<(), VizError> {
     if times_s.is_empty() || drones == 0 {
         return Ok(());
     }
     debug_assert_eq!(positions.len(), times_s.len() * drones);
-    let lengths = std::iter::repeat_n(drones, times_s.len());
     let entity = paths::drones(kind);
     let columns = rerun::Points3D::update_fields()
         .with_positions(positions.iter().copied())
-        .columns(lengths.clone())
-        .map_err(ser_err(&entity))?;
-    rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
-        .map_err(log_err(&entity))?;
-    let entity = paths::safety(kind);
-    let columns = rerun::Ellipsoids3D::update_fields()
-        .with_centers(positions)
-        .columns(lengths)
+        .columns(std::iter::repeat_n(drones, times_s.len()))
         .map_err(ser_err(&entity))?;
     rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
         .map_err(log_err(&entity))
 }
 
-/// Sends rows of speeds (same layout as [`send_positions`]): one series per drone.
+/// Sends rows of positions (same layout as [`send_points`]) as safety-sphere centres.
+pub(crate) fn send_spheres(
+    rec: &RecordingStream,
+    kind: &str,
+    axis: &TimeAxis,
+    times_s: &[f64],
+    drones: usize,
+    positions: &[[f32; 3]],
+) -> Result<(), VizError> {
+    if times_s.is_empty() || drones == 0 {
+        return Ok(());
+    }
+    debug_assert_eq!(positions.len(), times_s.len() * drones);
+    let entity = paths::safety(kind);
+    let columns = rerun::Ellipsoids3D::update_fields()
+        .with_centers(positions.iter().copied())
+        .columns(std::iter::repeat_n(drones, times_s.len()))
+        .map_err(ser_err(&entity))?;
+    rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
+        .map_err(log_err(&entity))
+}
+
+/// Sends rows of speeds (same layout as [`send_points`]): one series per drone.
 pub(crate) fn send_speeds(
     rec: &RecordingStream,
     kind: &str,
