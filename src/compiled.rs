@@ -94,18 +94,7 @@ pub fn compile(mission: &Mission, solution: &Solution) -> Result<CompiledPlan, C
         lower_bound_steps: stats.initial_lower_bound_steps,
         makespan_s: trajectories.makespan_s,
         setpoint_period_s: 1.0 / mission.link.setpoint_rate_hz,
-        drones: plan
-            .drones
-            .iter()
-            .zip(samples)
-            .map(|(d, trajectory)| CompiledDrone {
-                id: d.id.clone(),
-                group: d.group.clone(),
-                goal: d.goal,
-                path: d.path.clone(),
-                trajectory,
-            })
-            .collect(),
+        drones: compiled_drones(plan, samples),
         execution,
         check,
     })
@@ -119,4 +108,22 @@ fn name_drones(mut report: SeparationReport, plan: &DiscretePlan) -> SeparationR
         }
     }
     report
+}
+
+/// Each drone's plan beside its sampled trajectory (same order).
+pub(crate) fn compiled_drones(
+    plan: &DiscretePlan,
+    samples: Vec<Vec<[f64; 4]>>,
+) -> Vec<CompiledDrone> {
+    plan.drones
+        .iter()
+        .zip(samples)
+        .map(|(d, trajectory)| CompiledDrone {
+            id: d.id.clone(),
+            group: d.group.clone(),
+            goal: d.goal,
+            path: d.path.clone(),
+            trajectory,
+        })
+        .collect()
 }

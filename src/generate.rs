@@ -107,29 +107,9 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
     let goals = free[..drones].to_vec();
 
     let to_raw = |v: Voxel| [i64::from(v.x), i64::from(v.y), i64::from(v.z)];
-    let mut next = 0;
-    let group_specs = (0..groups)
-        .map(|g| {
-            let size = drones / groups + usize::from(g < drones % groups);
-            let name = group_name(g);
-            let range = next..next + size;
-            next += size;
-            GroupSpec {
-                drones: range
-                    .clone()
-                    .enumerate()
-                    .map(|(k, i)| DroneSpec {
-                        id: format!("{name}-{}", k + 1),
-                        start: to_raw(starts[i]),
-                        endpoint: None,
-                        system_id: None,
-                    })
-                    .collect(),
-                goals: range.map(|i| to_raw(goals[i])).collect(),
-                name,
-            }
-        })
-        .collect();
+    let starts: Vec<[i64; 3]> = starts.into_iter().map(to_raw).collect();
+    let goals: Vec<[i64; 3]> = goals.into_iter().map(to_raw).collect();
+    let group_specs = split_into_groups(groups, &starts, &goals);
 
     Ok(MissionFile {
         name: format!(
@@ -160,6 +140,40 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
 }
 
 /// Colour names read better than numbers in logs and viewers.
+/// Drones `i` (start `starts[i]`, goal `goals[i]`) dealt into `groups` groups of
+/// near-equal size, in order, named red, green, blue, … and their drones
+/// `red-1`, `red-2`, ….
+pub(crate) fn split_into_groups(
+    groups: usize,
+    starts: &[[i64; 3]],
+    goals: &[[i64; 3]],
+) -> Vec<GroupSpec> {
+    let drones = starts.len();
+    let mut next = 0;
+    (0..groups)
+        .map(|g| {
+            let size = drones / groups + usize::from(g < drones % groups);
+            let name = group_name(g);
+            let range = next..next + size;
+            next += size;
+            GroupSpec {
+                drones: range
+                    .clone()
+                    .enumerate()
+                    .map(|(k, i)| DroneSpec {
+                        id: format!("{name}-{}", k + 1),
+                        start: starts[i],
+                        endpoint: None,
+                        system_id: None,
+                    })
+                    .collect(),
+                goals: range.map(|i| goals[i]).collect(),
+                name,
+            }
+        })
+        .collect()
+}
+
 fn group_name(index: usize) -> String {
     const NAMES: [&str; 10] = [
         "red", "green", "blue", "orange", "purple", "cyan", "magenta", "yellow", "teal", "brown",

@@ -21,7 +21,7 @@
 use crate::bench::{median, peak_memory_bytes, process_resources};
 use crate::fly::{self, FlightLog, FlyOptions, StatusMode};
 use crate::link::frames;
-use crate::mission::schema::{DroneSpec, GroupSpec, LimitsSpec, LinkSpec, WorldSpec};
+use crate::mission::schema::{LimitsSpec, LinkSpec, WorldSpec};
 use crate::mission::{Mission, MissionFile};
 use crate::plan::{self, DiscretePlan};
 use anyhow::Context;
@@ -109,34 +109,7 @@ pub fn load_mission(vehicles: usize, seed: u64) -> anyhow::Result<MissionFile> {
         .map(|(&[x, y], &z)| [x, y, z])
         .collect();
     let groups = vehicles.div_ceil(DRONES_PER_GROUP);
-    let names = [
-        "red", "green", "blue", "orange", "purple", "cyan", "magenta", "yellow", "teal", "brown",
-    ];
-    let mut next = 0;
-    let group_specs = (0..groups)
-        .map(|g| {
-            let size = vehicles / groups + usize::from(g < vehicles % groups);
-            let name = names
-                .get(g)
-                .map_or_else(|| format!("group{}", g + 1), |n| (*n).to_string());
-            let range = next..next + size;
-            next += size;
-            GroupSpec {
-                drones: range
-                    .clone()
-                    .enumerate()
-                    .map(|(k, i)| DroneSpec {
-                        id: format!("{name}-{}", k + 1),
-                        start: starts[i],
-                        endpoint: None,
-                        system_id: None,
-                    })
-                    .collect(),
-                goals: range.map(|i| goals[i]).collect(),
-                name,
-            }
-        })
-        .collect();
+    let group_specs = crate::generate::split_into_groups(groups, &starts, &goals);
     Ok(MissionFile {
         name: format!("load-{vehicles}-s{seed}"),
         description: Some(format!(

@@ -1,7 +1,7 @@
 //! A bare discrete plan (what `swarmctl fly` holds) compiled for recording.
 
 use super::RecordError;
-use crate::compiled::{self, CompiledDrone, CompiledPlan};
+use crate::compiled::{self, CompiledPlan};
 use crate::mission::Mission;
 use crate::plan::{DiscretePlan, PlanStats, Solution};
 
@@ -31,17 +31,6 @@ pub fn scheduled_scene(
     let schedule = crate::schedule::solve(&tpg).map_err(schedule_err)?;
     let execution = crate::schedule::execution_plan(&tpg, &schedule);
     let samples = crate::trajectory::from_schedule(&schedule).sample(mission.link.setpoint_rate_hz);
-    let drones: Vec<CompiledDrone> = plan
-        .drones
-        .iter()
-        .zip(samples)
-        .map(|(d, trajectory)| CompiledDrone {
-            id: d.id.clone(),
-            group: d.group.clone(),
-            goal: d.goal,
-            path: d.path.clone(),
-            trajectory,
-        })
-        .collect();
+    let drones = compiled::compiled_drones(plan, samples);
     Ok(super::plan::drones_scene(mission, &drones, &execution))
 }
