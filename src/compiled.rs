@@ -111,10 +111,7 @@ fn name_drones(mut report: SeparationReport, plan: &DiscretePlan) -> SeparationR
 }
 
 /// Each drone's plan beside its sampled trajectory (same order).
-pub(crate) fn compiled_drones(
-    plan: &DiscretePlan,
-    samples: Vec<Vec<[f64; 4]>>,
-) -> Vec<CompiledDrone> {
+pub fn compiled_drones(plan: &DiscretePlan, samples: Vec<Vec<[f64; 4]>>) -> Vec<CompiledDrone> {
     plan.drones
         .iter()
         .zip(samples)

@@ -143,11 +143,7 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
 /// Drones `i` (start `starts[i]`, goal `goals[i]`) dealt into `groups` groups of
 /// near-equal size, in order, named red, green, blue, … and their drones
 /// `red-1`, `red-2`, ….
-pub(crate) fn split_into_groups(
-    groups: usize,
-    starts: &[[i64; 3]],
-    goals: &[[i64; 3]],
-) -> Vec<GroupSpec> {
+pub fn split_into_groups(groups: usize, starts: &[[i64; 3]], goals: &[[i64; 3]]) -> Vec<GroupSpec> {
     let drones = starts.len();
     let mut next = 0;
     (0..groups)

@@ -4,7 +4,6 @@
 //! `trajectory` → `fly`. Each stage is a pure function of the one before, except
 //! `fly`, the only stage that talks to vehicles.
 
-pub mod bench;
 pub mod compiled;
 pub mod fly;
 pub mod generate;
@@ -12,7 +11,6 @@ pub mod import;
 pub mod link;
 pub mod mission;
 pub mod plan;
-pub mod record;
 pub mod schedule;
 pub mod trajectory;
 pub mod verify;

@@ -22,7 +22,9 @@
 #![warn(missing_docs)]
 
 pub mod ardupilot;
+#[cfg(feature = "cli")]
 mod bench;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod codec;
 mod commands;

@@ -6,8 +6,7 @@ use super::contingency::{self, RetireStage, Retirement};
 use super::follower::{Follower, Hold, Setpoint};
 use super::gate::{Progress, closed_gate};
 use super::log::LogEvent;
-use super::monitor::{DroneStatus, Monitor};
-use super::observer::FlightObserver;
+use super::observer::{DroneStatus, FlightObserver, FlightStatus};
 use super::path::Route;
 use crate::link::{Flavour, LinkError, Session, frames};
 use crate::trajectory::Profile;
@@ -165,8 +164,7 @@ pub async fn run(
     settings: LoopSettings,
     armed_at: Instant,
     mut abort: tokio::sync::watch::Receiver<bool>,
-    monitor: &mut Monitor,
-    observer: Option<&dyn FlightObserver>,
+    observers: &[Arc<dyn FlightObserver>],
 ) -> Outcome {
     let dt_s = 1.0 / settings.setpoint_rate_hz;
     let mut tick = tokio::time::interval(Duration::from_secs_f64(dt_s));
@@ -316,15 +314,20 @@ pub async fn run(
         if landing_started {
             start_landings(drones, &settings, since_arm_s, &mut out.events);
         }
-        if let Some(observer) = observer {
-            tap.forward(observer, drones, armed_at, &out.events);
+        if !observers.is_empty() {
+            tap.forward(observers, drones, armed_at, &out.events);
         }
-        monitor.update(
-            since_arm_s,
-            t_exec_s,
-            out.min_separation_m,
-            drones.iter().map(status_of).collect(),
-        );
+        if observers.iter().any(|o| o.wants_status()) {
+            let status = FlightStatus {
+                since_arm_s,
+                t_exec_s,
+                min_separation_m: out.min_separation_m,
+                drones: drones.iter().map(status_of).collect(),
+            };
+            for o in observers.iter().filter(|o| o.wants_status()) {
+                o.status(&status);
+            }
+        }
         let handed_over = |d: &DroneRun| matches!(&d.phase, Phase::HandedOver { task: Some(t) } if t.is_finished());
         if landing_started
             && drones.iter().all(|d| {
@@ -337,7 +340,6 @@ pub async fn run(
             break;
         }
     }
-    monitor.finish();
     if out.closest_pair.is_none() && out.min_separation_m.is_infinite() {
         out.min_separation_m = f64::INFINITY;
     }
@@ -362,7 +364,7 @@ impl Tap {
     /// Hands over each drone's newest telemetry (once) and the events since last time.
     fn forward(
         &mut self,
-        observer: &dyn FlightObserver,
+        observers: &[Arc<dyn FlightObserver>],
         drones: &[DroneRun],
         armed_at: Instant,
         events: &[LogEvent],
@@ -376,10 +378,15 @@ impl Tap {
             }
             self.last_sample[i] = Some(p.received);
             let t_s = p.received.saturating_duration_since(armed_at).as_secs_f64();
-            observer.sample(i, t_s, frames::enu_from_ned_f32(p.position_ned_m));
+            let position_m = frames::enu_from_ned_f32(p.position_ned_m);
+            for o in observers {
+                o.sample(i, t_s, position_m);
+            }
         }
         for e in &events[self.events_sent.min(events.len())..] {
-            observer.event(e);
+            for o in observers {
+                o.event(e);
+            }
         }
         self.events_sent = events.len();
     }

@@ -18,17 +18,14 @@ pub mod faults;
 pub mod follower;
 pub mod gate;
 pub mod log;
-pub mod monitor;
 pub mod observer;
 pub mod path;
 pub mod preflight;
-pub mod sitl;
 
 pub use error::FlyError;
 pub use faults::{FaultSpec, parse_fault};
 pub use log::{DroneLog, FlightLog, Summary};
-pub use monitor::StatusMode;
-pub use observer::FlightObserver;
+pub use observer::{DroneStatus, FlightObserver, FlightStatus};
 
 use crate::link::{CommandPolicy, Flavour, Session, SigningKey, frames};
 use crate::mission::Mission;
@@ -61,10 +58,10 @@ pub struct FlyOptions {
     pub settle_tolerance_m: f64,
     /// Plan execution gives up (holds, lands) after `factor × makespan + 30 s`.
     pub timeout_factor: f64,
-    pub status: StatusMode,
     pub command_policy: CommandPolicy,
-    /// Sees every telemetry sample and event live (a Rerun recorder, say).
-    pub observer: Option<Arc<dyn FlightObserver>>,
+    /// See every telemetry sample, event and status live (a Rerun recorder, a
+    /// status line), in this order.
+    pub observers: Vec<Arc<dyn FlightObserver>>,
     /// MAVLink 2 signing key shared with the vehicles; `None` flies unsigned.
     pub signing_key: Option<SigningKey>,
 }
@@ -77,9 +74,8 @@ impl std::fmt::Debug for FlyOptions {
             .field("start_tolerance_m", &self.start_tolerance_m)
             .field("settle_tolerance_m", &self.settle_tolerance_m)
             .field("timeout_factor", &self.timeout_factor)
-            .field("status", &self.status)
             .field("command_policy", &self.command_policy)
-            .field("observer", &self.observer.as_ref().map(|_| "set"))
+            .field("observers", &self.observers.len())
             .field("signing_key", &self.signing_key)
             .finish()
     }
@@ -93,9 +89,8 @@ impl FlyOptions {
             start_tolerance_m: 0.3,
             settle_tolerance_m: 0.05,
             timeout_factor: 4.0,
-            status: StatusMode::Auto,
             command_policy: CommandPolicy::default(),
-            observer: None,
+            observers: Vec::new(),
             signing_key: None,
         }
     }
@@ -205,16 +200,7 @@ pub async fn fly(
         // Drones fly at voxel centres; the lowest layer's centre is at origin z.
         ground_clear: mission.world.origin_m()[2] >= l.safety_distance_m,
     };
-    let mut monitor = monitor::Monitor::new(options.status);
-    let outcome = executor::run(
-        &mut drones,
-        settings,
-        armed_at,
-        abort,
-        &mut monitor,
-        options.observer.as_deref(),
-    )
-    .await;
+    let outcome = executor::run(&mut drones, settings, armed_at, abort, &options.observers).await;
     let duration_s = armed_at.elapsed().as_secs_f64();
 
     let drone_logs: Vec<DroneLog> = drones

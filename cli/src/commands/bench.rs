@@ -1,0 +1,198 @@
+use std::process::ExitCode;
+use std::time::Duration;
+use swarmctl_harness::{PlanSuite, median, peak_memory_bytes, run_plan_suite};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    target: Target,
+}
+
+/// The planner suites, as the command line names them.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum SuiteArg {
+    /// 10×10×5 voxels, 150 obstacles, 100 drones in 5 groups (the paper's setting).
+    Paper,
+    /// 32×32×8 voxels, 10% obstacles, 400 drones in 10 groups.
+    Scale,
+    /// 32×32 grid, 10% obstacles, 50 agents each its own group (plain MAPF).
+    Mapf,
+    /// 32×32×8 voxels, 10% obstacles, 500 drones in one anonymous group.
+    Anonymous,
+}
+
+impl From<SuiteArg> for PlanSuite {
+    fn from(suite: SuiteArg) -> Self {
+        match suite {
+            SuiteArg::Paper => PlanSuite::Paper,
+            SuiteArg::Scale => PlanSuite::Scale,
+            SuiteArg::Mapf => PlanSuite::Mapf,
+            SuiteArg::Anonymous => PlanSuite::Anonymous,
+        }
+    }
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum Target {
+    /// Time the planner on seeded random instances.
+    Plan {
+        /// Which instance family.
+        #[arg(long, value_enum, default_value = "paper")]
+        suite: SuiteArg,
+        /// Number of seeds (1..=N).
+        #[arg(long, default_value_t = 20)]
+        seeds: u64,
+        /// Per-instance deadline in seconds.
+        #[arg(long, default_value_t = 10.0)]
+        deadline: f64,
+    },
+    /// Fly the fault matrix on the bundled SITL and print the results table.
+    Faults {
+        /// Mission to fly (the scenarios name drones b1 and r1, r2 of it).
+        #[arg(long, default_value = "missions/formation-change.yaml")]
+        mission: std::path::PathBuf,
+        /// Only the scenarios CI runs (those no other end-to-end test covers).
+        #[arg(long)]
+        reduced: bool,
+        /// Only scenarios whose name contains this text.
+        #[arg(long)]
+        only: Option<String>,
+    },
+    /// Fly missions back to back in one process; report memory and open files.
+    Soak {
+        #[arg(long, default_value = "missions/formation-change.yaml")]
+        mission: std::path::PathBuf,
+        /// How many flights.
+        #[arg(long, default_value_t = 10)]
+        flights: usize,
+    },
+    /// Plan and fly an N-drone mission on N bundled SITL vehicles in one process;
+    /// report planning time, CPU, setpoint timing, link, separation and memory.
+    Load {
+        /// Drones, one SITL vehicle each (1–254).
+        #[arg(long, default_value_t = 200)]
+        vehicles: usize,
+        /// Seeds the generated mission and the planner.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Planning runs (the table gives the median time).
+        #[arg(long, default_value_t = 3)]
+        plan_runs: usize,
+        /// Give up on the flight after this many seconds.
+        #[arg(long, default_value_t = 600.0)]
+        limit: f64,
+        /// Also write the generated mission here (YAML), for `swarmctl check`.
+        #[arg(long)]
+        mission_out: Option<std::path::PathBuf>,
+    },
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    match args.target {
+        Target::Plan {
+            suite,
+            seeds,
+            deadline,
+        } => plan(suite.into(), seeds, deadline),
+        Target::Faults {
+            mission,
+            reduced,
+            only,
+        } => super::bench_flight::faults(&mission, reduced, only.as_deref()),
+        Target::Soak { mission, flights } => super::bench_flight::soak(&mission, flights),
+        Target::Load {
+            vehicles,
+            seed,
+            plan_runs,
+            limit,
+            mission_out,
+        } => load(vehicles, seed, plan_runs, limit, mission_out.as_deref()),
+    }
+}
+
+fn load(
+    vehicles: usize,
+    seed: u64,
+    plan_runs: usize,
+    limit: f64,
+    mission_out: Option<&std::path::Path>,
+) -> anyhow::Result<ExitCode> {
+    use swarmctl_harness::load;
+    let mut options = load::LoadOptions::new(vehicles, seed);
+    options.plan_runs = plan_runs;
+    options.limit = Duration::try_from_secs_f64(limit)?;
+    if let Some(path) = mission_out {
+        let file = load::load_mission(vehicles, seed)?;
+        std::fs::write(path, swarmctl::mission::to_yaml(&file))?;
+        eprintln!("mission written to {}", path.display());
+    }
+    eprintln!("planning {vehicles} drones ({plan_runs} runs) …");
+    let (mission, plan, times) = load::plan_load(&options)?;
+    eprintln!(
+        "planned in {:.3} s (median), makespan {} steps; flying on {vehicles} bundled SITL vehicles …",
+        median(&times),
+        plan.makespan_steps
+    );
+    let report = load::fly_load(&mission, &plan, times, &options)?;
+    eprintln!("{}", report.observed);
+    if !report.passed()
+        && let Some(log) = &report.log
+    {
+        for e in &log.events {
+            eprintln!(
+                "{:7.1} s {} {}",
+                e.t_s,
+                e.drone.as_deref().unwrap_or("-"),
+                e.message
+            );
+        }
+    }
+    println!("{}", load::markdown_table(std::slice::from_ref(&report)));
+    Ok(if report.passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+fn plan(suite: PlanSuite, seeds: u64, deadline: f64) -> anyhow::Result<ExitCode> {
+    let deadline = Duration::try_from_secs_f64(deadline)?;
+    let o = suite.options(1);
+    println!(
+        "suite {suite:?}: {}×{}×{} voxels, {} obstacles, {} drones in {} groups, seeds 1..={seeds}, deadline {deadline:?}",
+        o.dimensions[0], o.dimensions[1], o.dimensions[2], o.obstacles, o.drones, o.groups
+    );
+    let report = run_plan_suite(suite, seeds, deadline, |seed, result| match result {
+        Ok((time_s, makespan, lb, nodes)) => {
+            println!(
+                "  seed {seed:>3}: {time_s:>8.3} s  makespan {makespan:>3} (lower bound {lb:>3})  {nodes:>6} CT nodes"
+            )
+        }
+        Err(e) => println!("  seed {seed:>3}: FAILED: {e}"),
+    });
+    let at_bound = report.makespans.iter().filter(|(m, lb)| m == lb).count();
+    let excess: u32 = report.makespans.iter().map(|(m, lb)| m - lb).sum();
+    println!("solved          {}/{}", report.solved, report.instances);
+    if !report.times_s.is_empty() {
+        let max = report.times_s.iter().copied().fold(0.0, f64::max);
+        println!("median time     {:.4} s", median(&report.times_s));
+        println!("max time        {max:.4} s");
+        println!(
+            "makespan        {at_bound}/{} at the lower bound; {excess} steps above it in total",
+            report.solved
+        );
+        let nodes: Vec<f64> = report.ct_nodes.iter().map(|&n| n as f64).collect();
+        println!("median CT nodes {}", median(&nodes));
+    }
+    if let Some(bytes) = peak_memory_bytes() {
+        println!(
+            "peak memory     {:.1} MiB",
+            bytes as f64 / (1024.0 * 1024.0)
+        );
+    }
+    Ok(if report.solved == report.instances {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}

@@ -1,0 +1,266 @@
+//! `swarmctl fly`: plan (or load a plan), then fly it over MAVLink — against the
+//! mission's endpoints, or the bundled SITL when the mission names none.
+
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use swarmctl::fly::{self, FaultSpec, FlyOptions, VehicleLink};
+use swarmctl::import;
+use swarmctl::link::SigningKey;
+use swarmctl::mission::{Autopilot, KeySource, Mission};
+use swarmctl::plan::{self, DiscretePlan};
+use swarmctl_cli::record::{LiveFlight, RecorderOptions, Sink};
+use swarmctl_cli::status::{StatusMode, StatusView};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Mission file (YAML), or an instance `swarmctl plan` imports.
+    mission: PathBuf,
+    /// Fly this plan (JSON from `swarmctl plan -o`) instead of planning now.
+    #[arg(long)]
+    plan: Option<PathBuf>,
+    /// Autopilot the bundled SITL imitates (default: the mission's `link.autopilot`).
+    #[arg(long, value_parser = ["px4", "ardupilot"])]
+    autopilot: Option<String>,
+    /// Bundled SITL fault, repeatable: loss=10%, latency=50ms, slow=DRONE_ID:0.5,
+    /// drop=DRONE_ID@5s+3s, refuse-arm=DRONE_ID.
+    #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
+    faults: Vec<FaultSpec>,
+    /// Flight log (JSON); default flights/<mission>-<unix time>.json.
+    #[arg(long)]
+    log: Option<PathBuf>,
+    /// Planner deadline in seconds (when no --plan is given).
+    #[arg(long, default_value_t = 60.0)]
+    deadline: f64,
+    /// Print a plain status line every few seconds instead of a spinner.
+    #[arg(long)]
+    plain: bool,
+    /// MAVLink 2 signing key file (64 hex digits), overriding the mission's
+    /// `link.signing`. The bundled SITL then enforces signatures too.
+    #[arg(long, value_name = "FILE")]
+    signing_key_file: Option<PathBuf>,
+    /// Where the Rerun recording goes (default: beside the flight log).
+    #[command(flatten)]
+    viewer: swarmctl_cli::record::ViewerArgs,
+}
+
+fn parse_fault(s: &str) -> Result<FaultSpec, String> {
+    fly::parse_fault(s).map_err(|e| e.reason)
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    // The same inputs `swarmctl plan` accepts: mission YAML or an imported instance.
+    let mission = import::load_any(&args.mission, None)?;
+    let plan = match &args.plan {
+        Some(path) => load_plan(path, &mission)?,
+        None => plan_now(&mission, args.deadline)?,
+    };
+    let path = args
+        .log
+        .clone()
+        .unwrap_or_else(|| default_log_path(&mission));
+    // Recorded live; flying never depends on it (a recorder that fails only warns).
+    let recording = start_recording(&args, &mission, &plan, &path);
+    let observer = recording.as_ref().map(|(r, _)| r.observer());
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    let log = runtime.block_on(fly_async(&args, &mission, &plan, observer))?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    std::fs::write(&path, serde_json::to_string(&log)?)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    println!("{}: flew {} drones", mission.name, log.drones.len());
+    for line in log.summary.lines() {
+        println!("{line}");
+    }
+    for e in &log.events {
+        println!(
+            "  event {:6.1} s {}{}",
+            e.t_s,
+            e.drone
+                .as_deref()
+                .map(|d| format!("{d}: "))
+                .unwrap_or_default(),
+            e.message
+        );
+    }
+    println!("  log                  {}", path.display());
+    if let Some(recording) = recording {
+        finish_recording(recording, &log);
+    }
+    let ok = log.summary.completed && log.summary.min_separation_m >= log.summary.safety_distance_m;
+    Ok(if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+async fn fly_async(
+    args: &Args,
+    mission: &Mission,
+    plan: &DiscretePlan,
+    observer: Option<std::sync::Arc<dyn fly::FlightObserver>>,
+) -> anyhow::Result<fly::FlightLog> {
+    let (abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    tokio::spawn(async move {
+        if tokio::signal::ctrl_c().await.is_ok() {
+            eprintln!("Ctrl-C: every drone holds, then lands (Ctrl-C again to quit at once)");
+            let _ = abort_tx.send(true);
+            if tokio::signal::ctrl_c().await.is_ok() {
+                std::process::exit(130);
+            }
+        }
+    });
+    let endpoints: Vec<Option<VehicleLink>> = plan
+        .drones
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            mission
+                .drones()
+                .find(|(_, m)| m.id == d.id)
+                .and_then(|(_, m)| {
+                    m.endpoint.clone().map(|endpoint| VehicleLink {
+                        endpoint,
+                        system_id: m.system_id.unwrap_or(i as u8 + 1),
+                    })
+                })
+        })
+        .collect();
+    let source = match &args.signing_key_file {
+        Some(file) => Some(KeySource::File(file.clone())),
+        None => mission.link.signing.clone(),
+    };
+    let signing_key = source.as_ref().map(SigningKey::load).transpose()?;
+    let mut swarm = None;
+    let vehicles = if endpoints.iter().all(Option::is_none) {
+        let flavour = match args.autopilot.as_deref() {
+            Some("ardupilot") => swarmctl_sitl::Flavour::ArduPilot,
+            Some(_) => swarmctl_sitl::Flavour::Px4,
+            None => match mission.link.autopilot {
+                Autopilot::Px4 => swarmctl_sitl::Flavour::Px4,
+                Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
+            },
+        };
+        let mut configs =
+            swarmctl_harness::bundled_sitl::vehicle_configs(mission, plan, flavour, &args.faults)?;
+        for c in &mut configs {
+            c.signing_key = signing_key.as_ref().map(SigningKey::bytes);
+        }
+        let (s, links) =
+            swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
+        eprintln!(
+            "started the bundled SITL: {} {flavour:?} vehicles on 127.0.0.1",
+            links.len()
+        );
+        swarm = Some(s);
+        links
+    } else {
+        if !args.faults.is_empty() || args.autopilot.is_some() {
+            anyhow::bail!(
+                "--fault and --autopilot apply to the bundled SITL only, but the mission names endpoints"
+            );
+        }
+        endpoints
+            .into_iter()
+            .zip(&plan.drones)
+            .map(|(e, d)| {
+                e.with_context(|| {
+                    format!(
+                        "drone {} has no endpoint (give all drones one, or none)",
+                        d.id
+                    )
+                })
+            })
+            .collect::<anyhow::Result<_>>()?
+    };
+    let mut options = FlyOptions::new(vehicles);
+    options.observers.extend(observer);
+    let status = Arc::new(StatusView::new(if args.plain {
+        StatusMode::Plain
+    } else {
+        StatusMode::Auto
+    }));
+    options.observers.push(status.clone());
+    if signing_key.is_some() {
+        eprintln!("MAVLink 2 signing on: unsigned or wrongly signed messages are refused");
+    }
+    options.signing_key = signing_key;
+    let result = fly::fly(mission, plan, &options, abort_rx).await;
+    status.finish();
+    if let Some(s) = swarm {
+        s.shutdown().await;
+    }
+    Ok(result?)
+}
+
+/// The plan file, refused before anything starts unless it is a valid plan for
+/// `mission` (see `swarmctl::plan::file`).
+fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<DiscretePlan> {
+    Ok(plan::file::load(path, mission)?)
+}
+
+fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> {
+    let options = plan::PlanOptions {
+        deadline: std::time::Duration::try_from_secs_f64(deadline_s)
+            .ok()
+            .filter(|d| !d.is_zero())
+            .context("--deadline must be a positive number of seconds")?,
+        ..plan::PlanOptions::default()
+    };
+    Ok(plan::solve(mission, &options)
+        .with_context(|| format!("planning {}", mission.name))?
+        .plan)
+}
+
+fn default_log_path(mission: &Mission) -> PathBuf {
+    let unix_s = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let name: String = mission
+        .name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    PathBuf::from("flights").join(format!("{name}-{unix_s}.json"))
+}
+
+/// Opens the flight's Rerun recording (beside the log unless --rrd, --spawn or
+/// --connect say otherwise); `None`, with a warning, if it cannot be opened.
+fn start_recording(
+    args: &Args,
+    mission: &Mission,
+    plan: &DiscretePlan,
+    log_path: &Path,
+) -> Option<(LiveFlight, Sink)> {
+    let sink = args.viewer.sink_or_beside(log_path);
+    match LiveFlight::start(mission, plan, &sink, RecorderOptions::for_sink(&sink)) {
+        Ok(recording) => Some((recording, sink)),
+        Err(e) => {
+            eprintln!("warning: flying without a Rerun recording: {e:#}");
+            None
+        }
+    }
+}
+
+/// Finishes the live recording and reports it, with samples dropped to keep the
+/// setpoint streams on time.
+fn finish_recording((recording, sink): (LiveFlight, Sink), log: &fly::FlightLog) {
+    match recording.finish(log) {
+        Ok(stats) => println!(
+            "  recording            {} ({} samples live, {} dropped)",
+            super::replay::describe(&sink),
+            stats.samples_logged,
+            stats.samples_dropped
+        ),
+        Err(e) => eprintln!("warning: the Rerun recording is incomplete: {e:#}"),
+    }
+}

@@ -1,0 +1,124 @@
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+use swarmctl::{compiled, import, plan};
+
+#[derive(Debug, clap::Args)]
+#[command(group = clap::ArgGroup::new("input").required(true).args(["mission", "scen"]))]
+pub struct Args {
+    /// Mission file (YAML), or an instance in a community format: a
+    /// libMultiRobotPlanning YAML, a MovingAI `.scen` or a MovingAI 3D `.3dscen`.
+    mission: Option<PathBuf>,
+    /// A MovingAI scenario (its map is looked up next to it); same as giving it as MISSION.
+    #[arg(long)]
+    scen: Option<PathBuf>,
+    /// How many agents to take from a scenario (default: all rows).
+    #[arg(long)]
+    agents: Option<usize>,
+    /// Write the plan (JSON) here.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Give up after this many seconds, reporting the best lower bound proven.
+    #[arg(long, default_value_t = 60.0)]
+    deadline: f64,
+    /// Seed for tie-breaking; the same seed gives the same plan.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    #[command(flatten)]
+    viewer: swarmctl_cli::record::ViewerArgs,
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let input = args.mission.or(args.scen).context("no mission given")?;
+    let mission = import::load_any(&input, args.agents)?;
+    let deadline = Duration::try_from_secs_f64(args.deadline)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .context("--deadline must be a positive number of seconds")?;
+    let options = plan::PlanOptions {
+        deadline,
+        seed: args.seed,
+    };
+    let spinner = ProgressBar::new_spinner();
+    spinner.set_style(ProgressStyle::with_template("{spinner} {msg}").expect("static template"));
+    spinner.set_message(format!("planning {} drones", mission.drone_count()));
+    spinner.enable_steady_tick(Duration::from_millis(120));
+    let result = plan::solve_with_progress(&mission, &options, &mut |p| {
+        spinner.set_message(format!(
+            "planning: {} conflict-tree nodes, {} open, makespan ≥ {} steps, {:.1} s",
+            p.ct_nodes_expanded,
+            p.open_nodes,
+            p.best_lower_bound_steps,
+            p.elapsed.as_secs_f64()
+        ));
+    });
+    spinner.finish_and_clear();
+    let solution = result.with_context(|| format!("planning {}", input.display()))?;
+    if let Err(violations) = plan::validate_plan(&mission, &solution.plan) {
+        let list: Vec<String> = violations.iter().map(|v| format!("  {v}")).collect();
+        anyhow::bail!(
+            "the planner produced an invalid plan (a bug):\n{}",
+            list.join("\n")
+        );
+    }
+    let s = &solution.stats;
+    let p = &solution.plan;
+    println!(
+        "{}: planned {} drones in {} groups",
+        input.display(),
+        p.drones.len(),
+        mission.groups.len()
+    );
+    println!(
+        "  makespan        {} steps (lower bound {}{})",
+        p.makespan_steps,
+        s.initial_lower_bound_steps,
+        if p.makespan_steps == s.initial_lower_bound_steps {
+            ", optimal by the bound"
+        } else {
+            "; optimal by search"
+        }
+    );
+    println!("  sum of costs    {} steps", p.sum_of_costs_steps);
+    println!(
+        "  conflict tree   {} nodes expanded, {} generated; {} flow augmentations",
+        s.ct_nodes_expanded, s.ct_nodes_generated, s.flow_augmentations
+    );
+    println!(
+        "  time            {:.3} s ({:.3} s low level, {:.3} s high level)",
+        s.total_time.as_secs_f64(),
+        s.low_level_time.as_secs_f64(),
+        s.high_level_time().as_secs_f64()
+    );
+    let compiled = compiled::compile(&mission, &solution)
+        .with_context(|| format!("scheduling {} (no plan file written)", input.display()))?;
+    let c = &compiled.check;
+    let ideal_s =
+        f64::from(p.makespan_steps) * mission.world.voxel_size_m() / mission.limits.max_speed_mps;
+    println!(
+        "  schedule        {:.2} s to the last arrival ({:.2} s if every drone cruised at top speed in lockstep)",
+        compiled.makespan_s, ideal_s
+    );
+    println!(
+        "  checked         min separation ≥ {:.3} m (safety {:.3} m), max speed {:.3} m/s (limit {}), max accel {:.3} m/s² (limit {})",
+        c.min_separation_bound_m,
+        mission.limits.safety_distance_m,
+        c.max_speed_mps,
+        mission.limits.max_speed_mps,
+        c.max_accel_mps2,
+        mission.limits.max_accel_mps2
+    );
+    if let Some(path) = &args.output {
+        let json = serde_json::to_string(&compiled)?;
+        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("  wrote           {}", path.display());
+    }
+    if let Some(sink) = args.viewer.sink() {
+        swarmctl_cli::record::record_plan(&mission, &compiled, &sink)
+            .context("recording the plan")?;
+        println!("  recording       {}", super::replay::describe(&sink));
+    }
+    Ok(ExitCode::SUCCESS)
+}

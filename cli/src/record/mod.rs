@@ -1,0 +1,49 @@
+//! Rerun recordings of missions, plans and flights.
+//!
+//! The one place that turns swarmctl's types into `swarmctl-viz`'s plain input
+//! types (`viz` must not depend on this crate: the binary depends on it). One file
+//! per source type; the CLI calls [`record_plan`], [`LiveFlight`] (a flight as it
+//! happens) and [`record_flight`] (a flight log, afterwards).
+
+mod args;
+mod discrete;
+mod flight;
+mod live;
+mod mission;
+mod plan;
+
+pub use args::ViewerArgs;
+pub use discrete::{schedule_discrete, scheduled_scene};
+pub use flight::{flight_plan_offset_s, record_flight};
+pub use live::LiveFlight;
+pub use mission::mission_scene;
+pub use plan::{plan_scene, record_plan};
+pub use swarmctl_viz::{RecorderOptions, RecorderStats, Sink, VizError};
+
+/// Why a recording could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    #[error(transparent)]
+    Viz(#[from] VizError),
+    #[error("cannot schedule the plan for the recording: {0}")]
+    Compile(#[from] swarmctl::compiled::CompileError),
+    #[error("cannot create {dir}: {source}")]
+    CreateDir {
+        dir: std::path::PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Creates the parent directory of a file sink, so `--rrd out/x.rrd` just works.
+fn prepare(sink: &Sink) -> Result<(), RecordError> {
+    if let Sink::File(path) = sink
+        && let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+    {
+        std::fs::create_dir_all(dir).map_err(|source| RecordError::CreateDir {
+            dir: dir.to_path_buf(),
+            source,
+        })?;
+    }
+    Ok(())
+}

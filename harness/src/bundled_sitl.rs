@@ -1,0 +1,131 @@
+//! Starting the bundled mock autopilots (`swarmctl-sitl`) for a mission that names
+//! no endpoints: one vehicle per drone on an ephemeral loopback port, on the
+//! ground below its start voxel, with the mission's limits and the `--fault` flags.
+
+use std::net::{IpAddr, Ipv4Addr};
+use std::time::Duration;
+use swarmctl::fly::FaultSpec;
+use swarmctl::fly::VehicleLink;
+use swarmctl::link::frames;
+use swarmctl::mission::Mission;
+use swarmctl::plan::DiscretePlan;
+use swarmctl_sitl::{Faults, Flavour, GeoPoint, LinkDrop, Swarm, VehicleConfig};
+
+/// A low battery turns critical (and the autopilot lands) this long after the warning.
+const CRITICAL_AFTER_LOW: Duration = Duration::from_secs(45);
+
+#[derive(Debug, thiserror::Error)]
+pub enum BundledSitlError {
+    #[error("--fault names drone {drone:?}, which is not in the mission (drones: {known})")]
+    UnknownDrone { drone: String, known: String },
+    #[error("the bundled SITL gives system ids 1–254, so at most 254 drones ({0} given)")]
+    TooManyDrones(usize),
+    #[error("cannot start the bundled SITL: {0}")]
+    Spawn(#[from] swarmctl_sitl::SitlError),
+}
+
+/// Vehicle configurations for every drone of `plan` (plan order, system ids 1, 2, …).
+pub fn vehicle_configs(
+    mission: &Mission,
+    plan: &DiscretePlan,
+    flavour: Flavour,
+    faults: &[FaultSpec],
+) -> Result<Vec<VehicleConfig>, BundledSitlError> {
+    if plan.drones.len() > 254 {
+        return Err(BundledSitlError::TooManyDrones(plan.drones.len()));
+    }
+    for f in faults {
+        if let Some(drone) = f.drone()
+            && !plan.drones.iter().any(|d| d.id == drone)
+        {
+            let known: Vec<&str> = plan.drones.iter().map(|d| d.id.as_str()).collect();
+            return Err(BundledSitlError::UnknownDrone {
+                drone: drone.to_string(),
+                known: known.join(", "),
+            });
+        }
+    }
+    let origin = GeoPoint::default();
+    let configs = plan
+        .drones
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            let start = mission.world.center_m(d.path[0]);
+            let ground_ned_m = frames::ned_f32_from_enu([start.x, start.y, 0.0]);
+            let mut c = VehicleConfig::new(i as u8 + 1, flavour).at(origin, ground_ned_m);
+            c.max_speed_mps = mission.limits.max_speed_mps as f32;
+            c.max_accel_mps2 = mission.limits.max_accel_mps2 as f32;
+            c.faults = faults_for(&d.id, faults);
+            // The link-loss failsafe swarmctl expects (see the README): hold where you
+            // are, so the plan graph keeps everyone else clear of the silent drone.
+            c.offboard_loss_land_after = Duration::MAX;
+            c
+        })
+        .collect();
+    Ok(configs)
+}
+
+fn faults_for(drone: &str, faults: &[FaultSpec]) -> Faults {
+    let mut out = Faults::default();
+    for f in faults {
+        match f {
+            FaultSpec::Loss { percent } => out.loss_percent = *percent,
+            FaultSpec::Latency { latency } => out.latency = *latency,
+            FaultSpec::Slow { drone: d, factor } if d == drone => out.speed_factor = *factor,
+            FaultSpec::Drop {
+                drone: d,
+                after,
+                duration,
+            } if d == drone => {
+                out.link_drop = Some(LinkDrop {
+                    after_takeoff: *after,
+                    duration: *duration,
+                })
+            }
+            FaultSpec::RefuseArm { drone: d } if d == drone => out.refuse_arm = true,
+            FaultSpec::Duplicate { percent } => out.duplicate_percent = *percent,
+            FaultSpec::Reorder { percent } => out.reorder_percent = *percent,
+            FaultSpec::Lose { drone: d, after } if d == drone => {
+                out.link_drop = Some(LinkDrop {
+                    after_takeoff: *after,
+                    duration: Duration::MAX,
+                })
+            }
+            FaultSpec::LowBattery { drone: d, after } if d == drone => {
+                out.low_battery_after = Some(*after);
+                out.critical_battery_after = Some(*after + CRITICAL_AFTER_LOW);
+            }
+            FaultSpec::CriticalBattery { drone: d, after } if d == drone => {
+                out.critical_battery_after = Some(*after)
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Spawns the vehicles on 127.0.0.1 and returns the swarm and how to reach each.
+pub async fn start(
+    configs: Vec<VehicleConfig>,
+    telemetry_rate_hz: f64,
+) -> Result<(Swarm, Vec<VehicleLink>), BundledSitlError> {
+    let ids: Vec<u8> = configs.iter().map(|c| c.system_id).collect();
+    let swarm = swarmctl_sitl::spawn(
+        IpAddr::V4(Ipv4Addr::LOCALHOST),
+        configs,
+        100.0,
+        telemetry_rate_hz,
+    )
+    .await?;
+    let links = swarm
+        .addresses()
+        .into_iter()
+        .zip(ids)
+        .map(|(address, system_id)| VehicleLink {
+            endpoint: format!("udpout:{address}"),
+            system_id,
+        })
+        .collect();
+    Ok((swarm, links))
+}

@@ -1,0 +1,339 @@
+//! The fault matrix: one mission flown on the bundled SITL under each fault the
+//! issue tracker asks about, each with the behaviour swarmctl promises, checked
+//! against what happened.
+//!
+//! Separation is measured twice: from telemetry during plan execution (what the
+//! executor saw) and from the simulator's true positions over the whole flight,
+//! takeoff and landing included, for every airborne pair (what really happened,
+//! including drones the executor could no longer hear).
+
+use std::time::Duration;
+use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError, FlyOptions};
+use swarmctl::mission::Mission;
+use swarmctl::plan::DiscretePlan;
+use swarmctl_sitl::{Flavour, Swarm};
+
+/// What a scenario must do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Expect {
+    /// Every drone reaches its goal and lands.
+    Completes,
+    /// The flight is refused before anybody leaves the ground.
+    AbortsOnGround,
+    /// `drone` is reported lost; everybody else lands or is handed over.
+    Lost { drone: &'static str },
+    /// `drone` leaves the plan early and lands; everybody else finishes and lands.
+    Retires { drone: &'static str },
+}
+
+impl Expect {
+    fn describe(&self) -> String {
+        match self {
+            Expect::Completes => "all at goals, landed".into(),
+            Expect::AbortsOnGround => "refused before takeoff, nobody airborne".into(),
+            Expect::Lost { drone } => {
+                format!("{drone} reported lost, dependents hold, the rest finish")
+            }
+            Expect::Retires { drone } => {
+                format!("{drone} leaves the plan and lands, the rest finish")
+            }
+        }
+    }
+}
+
+/// One row of the matrix.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    pub name: &'static str,
+    pub faults: Vec<&'static str>,
+    pub flavour: Flavour,
+    pub expect: Expect,
+}
+
+impl Scenario {
+    fn new(name: &'static str, faults: &[&'static str], expect: Expect) -> Self {
+        Self {
+            name,
+            faults: faults.to_vec(),
+            flavour: Flavour::Px4,
+            expect,
+        }
+    }
+}
+
+/// The scenarios, for `missions/formation-change.yaml` (drone ids b1–b4, r1–r4).
+/// `reduced` keeps the ones no other end-to-end test covers, for CI.
+pub fn scenarios(reduced: bool) -> Vec<Scenario> {
+    let mut all = vec![
+        Scenario::new("no faults", &[], Expect::Completes),
+        Scenario::new("loss 10%", &["loss=10%"], Expect::Completes),
+        Scenario::new("loss 30%", &["loss=30%"], Expect::Completes),
+        Scenario::new(
+            "latency 200 ms each way",
+            &["latency=200ms"],
+            Expect::Completes,
+        ),
+        Scenario::new(
+            "duplicated 20% + reordered 20%",
+            &["dup=20%", "reorder=20%"],
+            Expect::Completes,
+        ),
+        Scenario::new(
+            "b1 link cut 5 s in flight",
+            &["drop=b1@5s+5s"],
+            Expect::Completes,
+        ),
+        Scenario::new(
+            "b1 lost for good",
+            &["lose=b1@5s"],
+            Expect::Lost { drone: "b1" },
+        ),
+        Scenario::new(
+            "r2 refuses to arm",
+            &["refuse-arm=r2"],
+            Expect::AbortsOnGround,
+        ),
+        Scenario::new("b1 at half speed", &["slow=b1:0.5"], Expect::Completes),
+        Scenario::new(
+            "r1 low battery",
+            &["low-battery=r1@12s"],
+            Expect::Retires { drone: "r1" },
+        ),
+        Scenario::new(
+            "r1 critical battery (autopilot lands it)",
+            &["critical-battery=r1@12s"],
+            Expect::Retires { drone: "r1" },
+        ),
+        Scenario {
+            flavour: Flavour::ArduPilot,
+            ..Scenario::new("ArduPilot, loss 20%", &["loss=20%"], Expect::Completes)
+        },
+    ];
+    if reduced {
+        let ci = [
+            "loss 30%",
+            "latency 200 ms each way",
+            "duplicated 20% + reordered 20%",
+            "b1 lost for good",
+            "r1 low battery",
+            "r1 critical battery (autopilot lands it)",
+        ];
+        all.retain(|s| ci.contains(&s.name));
+    }
+    all
+}
+
+/// What one scenario did.
+#[derive(Debug, Clone)]
+pub struct ScenarioReport {
+    pub name: String,
+    pub faults: String,
+    pub expected: String,
+    pub observed: String,
+    /// Telemetry, during plan execution (∞ if nobody flew).
+    pub min_separation_telemetry_m: f64,
+    /// Simulator truth, whole flight, airborne pairs (∞ if nobody flew).
+    pub min_separation_truth_m: f64,
+    pub safety_distance_m: f64,
+    pub duration_s: f64,
+    pub passed: bool,
+    /// Why it failed, if it did.
+    pub failures: Vec<String>,
+    pub log: Option<FlightLog>,
+}
+
+/// Flies `scenario` once with an overall `limit`.
+pub async fn run_scenario(
+    mission: &Mission,
+    plan: &DiscretePlan,
+    scenario: &Scenario,
+    limit: Duration,
+) -> anyhow::Result<ScenarioReport> {
+    let faults: Vec<FaultSpec> = scenario
+        .faults
+        .iter()
+        .map(|f| fly::parse_fault(f))
+        .collect::<Result<_, _>>()?;
+    let configs = crate::bundled_sitl::vehicle_configs(mission, plan, scenario.flavour, &faults)?;
+    let (swarm, links) = crate::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
+    let mut options = FlyOptions::new(links);
+    let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    let started = std::time::Instant::now();
+    let done = std::sync::atomic::AtomicBool::new(false);
+    let flight = async {
+        let result = tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort_rx)).await;
+        done.store(true, std::sync::atomic::Ordering::Relaxed);
+        result
+    };
+    let (result, (truth_m, ever_airborne)) = tokio::join!(flight, watch_truth(&swarm, &done));
+    let duration_s = started.elapsed().as_secs_f64();
+    let still_armed: Vec<u8> = (0..swarm.len())
+        .map(|i| swarm.snapshot(i))
+        .filter(|s| s.armed)
+        .map(|s| s.system_id)
+        .collect();
+    swarm.shutdown().await;
+
+    let safety = mission.limits.safety_distance_m;
+    let mut failures = Vec::new();
+    let (observed, log) = match result {
+        Err(_) => {
+            failures.push(format!("did not finish within {limit:?}"));
+            ("timed out".to_string(), None)
+        }
+        Ok(Err(e)) => (describe_error(&e), None),
+        Ok(Ok(log)) => (describe_log(&log), Some(log)),
+    };
+    match (&scenario.expect, &log) {
+        (Expect::AbortsOnGround, None) if !ever_airborne => {}
+        (Expect::AbortsOnGround, _) => failures.push("expected a refusal on the ground".into()),
+        (_, None) => failures.push("expected a flight".into()),
+        (Expect::Completes, Some(log)) => {
+            if !log.summary.completed {
+                failures.push("not every drone reached its goal".into());
+            }
+        }
+        (Expect::Lost { drone }, Some(log)) => {
+            if log.summary.lost != [drone.to_string()] {
+                failures.push(format!("lost {:?}, expected [{drone}]", log.summary.lost));
+            }
+        }
+        (Expect::Retires { drone }, Some(log)) => {
+            if log.summary.retired != [drone.to_string()] {
+                failures.push(format!(
+                    "retired {:?}, expected [{drone}]",
+                    log.summary.retired
+                ));
+            }
+            if !log.summary.lost.is_empty() || !log.summary.handed_over.is_empty() {
+                failures.push("someone else was lost or handed over".into());
+            }
+        }
+    }
+    let lost_ids: Vec<u8> = log.as_ref().map_or(Vec::new(), |l| {
+        l.drones
+            .iter()
+            .filter(|d| l.summary.lost.contains(&d.id) || l.summary.handed_over.contains(&d.id))
+            .map(|d| d.system_id)
+            .collect()
+    });
+    // Lost and handed-over drones hover on by design; everybody else must be disarmed.
+    let wrongly_armed: Vec<u8> = still_armed
+        .into_iter()
+        .filter(|id| !lost_ids.contains(id))
+        .collect();
+    if !wrongly_armed.is_empty() {
+        failures.push(format!("systems {wrongly_armed:?} still armed"));
+    }
+    let telemetry_m = log
+        .as_ref()
+        .map_or(f64::INFINITY, |l| l.summary.min_separation_m);
+    if telemetry_m < safety {
+        failures.push(format!(
+            "telemetry separation {telemetry_m:.3} m < {safety} m"
+        ));
+    }
+    if truth_m < safety {
+        failures.push(format!("true separation {truth_m:.3} m < {safety} m"));
+    }
+    Ok(ScenarioReport {
+        name: scenario.name.to_string(),
+        faults: if scenario.faults.is_empty() {
+            "—".into()
+        } else {
+            scenario.faults.join(" ")
+        },
+        expected: scenario.expect.describe(),
+        observed,
+        min_separation_telemetry_m: telemetry_m,
+        min_separation_truth_m: truth_m,
+        safety_distance_m: safety,
+        duration_s,
+        passed: failures.is_empty(),
+        failures,
+        log,
+    })
+}
+
+/// Samples the simulator's true positions at 50 Hz until `done`: the smallest
+/// distance between two airborne vehicles, and whether anyone left the ground.
+async fn watch_truth(swarm: &Swarm, done: &std::sync::atomic::AtomicBool) -> (f64, bool) {
+    let mut min_m = f64::INFINITY;
+    let mut ever_airborne = false;
+    let mut airborne = Vec::with_capacity(swarm.len());
+    while !done.load(std::sync::atomic::Ordering::Relaxed) {
+        min_m = min_m.min(super::true_min_separation_m(swarm, &mut airborne));
+        ever_airborne |= !airborne.is_empty();
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    (min_m, ever_airborne)
+}
+
+fn describe_error(e: &FlyError) -> String {
+    let text: Vec<String> = e
+        .to_string()
+        .lines()
+        .map(|l| l.trim().to_string())
+        .collect();
+    format!("refused: {}", text.join(" "))
+}
+
+fn describe_log(log: &FlightLog) -> String {
+    let s = &log.summary;
+    let mut parts = vec![if s.completed {
+        format!(
+            "completed, plan {:.1} s (planned {:.1} s)",
+            s.executed_makespan_s.unwrap_or(f64::NAN),
+            s.planned_makespan_s
+        )
+    } else {
+        "not completed".to_string()
+    }];
+    if !s.lost.is_empty() {
+        parts.push(format!("lost {}", s.lost.join(",")));
+    }
+    if !s.retired.is_empty() {
+        parts.push(format!("retired {}", s.retired.join(",")));
+    }
+    if !s.handed_over.is_empty() {
+        parts.push(format!("handed over {}", s.handed_over.join(",")));
+    }
+    let losses: usize = log.drones.iter().map(|d| d.link_losses).sum();
+    if losses > 0 {
+        parts.push(format!("{losses} link losses"));
+    }
+    parts.push(format!("{} gating waits", s.gating_waits));
+    parts.join("; ")
+}
+
+/// The matrix as a Markdown table (what the README shows).
+pub fn markdown_table(reports: &[ScenarioReport]) -> String {
+    let mut out = String::from(
+        "| Scenario | Faults | Expected | Observed | Min sep. telemetry / truth (safety) | Result |\n|---|---|---|---|---|---|\n",
+    );
+    for r in reports {
+        let metres = |m: f64| {
+            if m.is_finite() {
+                format!("{m:.2} m")
+            } else {
+                "—".into()
+            }
+        };
+        out.push_str(&format!(
+            "| {} | `{}` | {} | {} | {} / {} ({:.2} m) | {} |\n",
+            r.name,
+            r.faults,
+            r.expected,
+            r.observed,
+            metres(r.min_separation_telemetry_m),
+            metres(r.min_separation_truth_m),
+            r.safety_distance_m,
+            if r.passed {
+                "pass".to_string()
+            } else {
+                format!("FAIL: {}", r.failures.join("; "))
+            }
+        ));
+    }
+    out
+}

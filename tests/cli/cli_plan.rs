@@ -1,0 +1,216 @@
+//! `swarmctl plan` end to end: example missions and community instance formats.
+
+use assert_cmd::Command;
+use predicates::str::contains;
+use std::path::{Path, PathBuf};
+use swarmctl::plan::DiscretePlan;
+
+fn swarmctl() -> Command {
+    Command::cargo_bin("swarmctl").expect("binary built")
+}
+
+fn repo(path: &str) -> PathBuf {
+    crate::support::repo_root().join(path)
+}
+
+/// Plans `input` (with extra args) into a temporary file, validates it independently
+/// against the mission swarmctl would load, and returns it.
+fn plan_file(input: &Path, extra: &[&str]) -> DiscretePlan {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("plan.json");
+    swarmctl()
+        .arg("plan")
+        .arg(input)
+        .args(extra)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(contains("makespan"))
+        .stdout(contains("conflict tree"));
+    let text = std::fs::read_to_string(&out).expect("plan written");
+    let json: serde_json::Value = serde_json::from_str(&text).expect("json");
+    for field in [
+        "makespan_steps",
+        "sum_of_costs_steps",
+        "makespan_s",
+        "drones",
+        "execution",
+    ] {
+        assert!(json.get(field).is_some(), "plan file lacks {field}");
+    }
+    for field in ["id", "group", "goal", "path"] {
+        assert!(
+            json["drones"][0].get(field).is_some(),
+            "drone entry lacks {field}"
+        );
+    }
+    let plan: DiscretePlan = serde_json::from_str(&text).expect("plan schema");
+    let agents = extra
+        .iter()
+        .position(|&a| a == "--agents")
+        .and_then(|i| extra.get(i + 1))
+        .and_then(|n| n.parse().ok());
+    let mission = swarmctl::import::load_any(input, agents).expect("loads");
+    if let Err(v) = swarmctl::plan::validate_plan(&mission, &plan) {
+        panic!("{}: {v:#?}", input.display());
+    }
+    plan
+}
+
+#[test]
+fn plans_every_example_mission() {
+    let expected = [
+        ("missions/paper-example.yaml", Some(4)),
+        ("missions/swap-corridor.yaml", Some(8)),
+        ("missions/formation-change.yaml", None),
+        ("missions/paper-scale.yaml", None),
+    ];
+    for (file, makespan) in expected {
+        let plan = plan_file(&repo(file), &[]);
+        if let Some(makespan) = makespan {
+            assert_eq!(plan.makespan_steps, makespan, "{file}");
+        }
+    }
+}
+
+#[test]
+fn imports_lib_multi_robot_planning_instances() {
+    let plan = plan_file(
+        &repo("tests/data/libMultiRobotPlanning/map_8by8_obst12_agents5_ex1.yaml"),
+        &[],
+    );
+    assert_eq!(plan.drones.len(), 5);
+    // Target assignment: both agents share two potential goals; that project's
+    // tests give 6 as the optimal sum of costs, and the makespan optimum is 3.
+    let plan = plan_file(
+        &repo("tests/data/libMultiRobotPlanning/mapfta_simple1_a1.yaml"),
+        &[],
+    );
+    assert_eq!(plan.makespan_steps, 3);
+    assert_eq!(plan.sum_of_costs_steps, 6);
+    assert_eq!(plan.drones[0].group, plan.drones[1].group);
+}
+
+#[test]
+fn rejects_agents_without_goals_clearly() {
+    swarmctl()
+        .arg("plan")
+        .arg(repo(
+            "tests/data/libMultiRobotPlanning/mapfta_simple1_a2.yaml",
+        ))
+        .assert()
+        .failure()
+        .stderr(contains("mapfta_simple1_a2.yaml"))
+        .stderr(contains("agent \"agent1\" has no potential goals"));
+}
+
+#[test]
+fn imports_moving_ai_maps_and_scenarios() {
+    let scen = repo("tests/data/movingai/random-32-32-10-random-1.scen");
+    let plan = plan_file(&scen, &["--agents", "20"]);
+    assert_eq!(plan.drones.len(), 20);
+    // --scen is the same as the positional form.
+    swarmctl()
+        .args(["plan", "--agents", "5", "--scen"])
+        .arg(&scen)
+        .assert()
+        .success();
+    swarmctl()
+        .args(["plan", "--agents", "5000"])
+        .arg(&scen)
+        .assert()
+        .failure()
+        .stderr(contains("asked for 5000 agents"));
+}
+
+#[test]
+fn imports_moving_ai_3d_voxel_maps() {
+    let plan = plan_file(
+        &repo("tests/data/movingai3d/tiny-8-6-4.3dscen"),
+        &["--agents", "6"],
+    );
+    assert_eq!(plan.drones.len(), 6);
+    assert!(plan.drones.iter().any(|d| d.path.iter().any(|v| v.z > 0)));
+}
+
+#[test]
+fn deadline_error_names_the_lower_bound() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mission = dir.path().join("big.yaml");
+    swarmctl()
+        .args([
+            "gen",
+            "--size",
+            "8x8x2",
+            "--obstacles",
+            "20",
+            "--drones",
+            "60",
+            "--groups",
+            "12",
+            "--seed",
+            "3",
+            "-o",
+        ])
+        .arg(&mission)
+        .assert()
+        .success();
+    let out = swarmctl()
+        .arg("plan")
+        .arg(&mission)
+        .args(["--deadline", "0.000001"])
+        .output()
+        .expect("runs");
+    if !out.status.success() {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("no plan within the deadline"), "{stderr}");
+        assert!(stderr.contains("optimal makespan is at least"), "{stderr}");
+    }
+}
+
+/// `swarmctl fly --plan` refuses a plan file that does not fit the mission, names
+/// the file and the problem, and starts nothing (no simulator, no flight log).
+#[test]
+fn fly_refuses_a_broken_plan_before_starting_anything() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mission = repo("missions/swap-corridor.yaml");
+    let good = dir.path().join("plan.json");
+    swarmctl()
+        .arg("plan")
+        .arg(&mission)
+        .arg("-o")
+        .arg(&good)
+        .assert()
+        .success();
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&good).expect("plan written")).expect("json");
+    // Teleport drone "a" two voxels along the corridor at step 1.
+    let voxel = &mut json["drones"][0]["path"][1];
+    voxel[0] = serde_json::json!(voxel[0].as_u64().expect("x") + 2);
+    let broken = dir.path().join("broken-plan.json");
+    std::fs::write(&broken, serde_json::to_string(&json).expect("json")).expect("write");
+    let truncated = dir.path().join("truncated-plan.json");
+    let text = std::fs::read_to_string(&good).expect("plan");
+    std::fs::write(&truncated, &text[..text.len() / 2]).expect("write");
+
+    for (plan, expected) in [(&broken, "jumps from"), (&truncated, "is not valid JSON")] {
+        let log = dir.path().join("flight.json");
+        let out = swarmctl()
+            .arg("fly")
+            .arg(&mission)
+            .arg("--plan")
+            .arg(plan)
+            .arg("--log")
+            .arg(&log)
+            .timeout(std::time::Duration::from_secs(60))
+            .output()
+            .expect("runs");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{stderr}");
+        assert!(stderr.contains(&plan.display().to_string()), "{stderr}");
+        assert!(stderr.contains(expected), "{stderr}");
+        assert!(!stderr.contains("started the bundled SITL"), "{stderr}");
+        assert!(!log.exists(), "a flight log was written");
+    }
+}

@@ -1,0 +1,11 @@
+//! The `swarmctl` command line end to end: `check`, `plan`, `gen`, `replay` and
+//! the Rerun recordings, run as a user runs them.
+// Tests may unwrap, expect and run long: a failure is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::too_many_lines)]
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod cli_check;
+mod cli_plan;
+mod viz_recordings;

@@ -1,0 +1,92 @@
+//! The reduced fault matrix CI runs: the scenarios no other end-to-end test
+//! covers, each flown on the bundled SITL with the formation change. Every one
+//! must show its promised behaviour and keep the safety distance, measured both
+//! from telemetry and from the simulator's true positions. The full matrix is
+//! `swarmctl bench faults`.
+
+use std::path::Path;
+use std::time::Duration;
+use swarmctl::plan;
+use swarmctl_harness::fault_matrix::{ScenarioReport, run_scenario, scenarios};
+
+const LIMIT: Duration = Duration::from_secs(150);
+
+async fn fly(name: &str) -> ScenarioReport {
+    let mission =
+        swarmctl::mission::load(&crate::support::repo_path("missions/formation-change.yaml"))
+            .expect("mission");
+    let plan = plan::solve(&mission, &plan::PlanOptions::default())
+        .expect("plan")
+        .plan;
+    let scenario = scenarios(true)
+        .into_iter()
+        .find(|s| s.name == name)
+        .expect("scenario in the reduced matrix");
+    let report = run_scenario(&mission, &plan, &scenario, LIMIT)
+        .await
+        .expect("scenario runs");
+    if let Some(log) = &report.log {
+        for e in &log.events {
+            eprintln!("{:6.1} s {:?} {}", e.t_s, e.drone, e.message);
+        }
+    }
+    eprintln!(
+        "{}: {} (telemetry {:.3} m, truth {:.3} m)",
+        report.name,
+        report.observed,
+        report.min_separation_telemetry_m,
+        report.min_separation_truth_m
+    );
+    assert!(report.passed, "{}: {:?}", report.name, report.failures);
+    report
+}
+
+fn reported(report: &ScenarioReport, drone: &str, text: &str) -> bool {
+    report.log.as_ref().is_some_and(|log| {
+        log.events
+            .iter()
+            .any(|e| e.drone.as_deref() == Some(drone) && e.message.contains(text))
+    })
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn thirty_percent_loss_completes() {
+    fly("loss 30%").await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn two_hundred_ms_latency_completes() {
+    fly("latency 200 ms each way").await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn duplicated_and_reordered_packets_complete() {
+    fly("duplicated 20% + reordered 20%").await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_drone_lost_for_good_is_reported_and_the_rest_land() {
+    let report = fly("b1 lost for good").await;
+    assert!(reported(&report, "b1", "LOST"), "b1's loss is in the log");
+    let log = report.log.expect("flight log");
+    // Everyone but b1 ends on the ground or, if b1 hovers below, handed over.
+    assert!(!log.summary.completed);
+    assert!(log.summary.gating_waits > 0, "somebody waited for b1");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn low_battery_drone_leaves_the_plan_and_the_rest_finish() {
+    let report = fly("r1 low battery").await;
+    assert!(reported(&report, "r1", "battery low"));
+    assert!(reported(&report, "r1", "released"));
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn autopilot_battery_failsafe_is_not_fought() {
+    let report = fly("r1 critical battery (autopilot lands it)").await;
+    assert!(reported(&report, "r1", "autopilot failsafe took over"));
+    assert!(
+        !reported(&report, "r1", "re-entering"),
+        "the executor never fights the failsafe for OFFBOARD"
+    );
+}

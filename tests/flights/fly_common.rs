@@ -1,0 +1,85 @@
+//! Shared helpers for the `fly_*` end-to-end tests: plan a mission, start the
+//! bundled SITL with faults, fly it, and check the log.
+#![allow(dead_code)] // each test binary uses a different subset
+
+use std::path::Path;
+use std::time::Duration;
+use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError, FlyOptions};
+use swarmctl::mission::{self, Mission};
+use swarmctl::plan::{self, DiscretePlan};
+use swarmctl_sitl::Flavour;
+
+pub fn load(path: &str) -> (Mission, DiscretePlan) {
+    let mission = mission::load(&crate::support::repo_path(path)).expect("mission loads");
+    let plan = plan::solve(&mission, &plan::PlanOptions::default())
+        .expect("mission plans")
+        .plan;
+    (mission, plan)
+}
+
+/// Flies `mission` on the bundled SITL with the given flavour and faults, with an
+/// overall time limit so a hung flight fails the test instead of hanging it.
+pub async fn fly_bundled(
+    mission: &Mission,
+    plan: &DiscretePlan,
+    flavour: Flavour,
+    faults: &[&str],
+    limit: Duration,
+) -> Result<FlightLog, FlyError> {
+    let faults: Vec<FaultSpec> = faults
+        .iter()
+        .map(|f| fly::parse_fault(f).expect("fault flag"))
+        .collect();
+    let configs = swarmctl_harness::bundled_sitl::vehicle_configs(mission, plan, flavour, &faults)
+        .expect("configs");
+    let (swarm, links) =
+        swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz)
+            .await
+            .expect("sitl");
+    let mut options = FlyOptions::new(links);
+    let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    let result = tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort_rx))
+        .await
+        .expect("flight finished within its time limit");
+    // Nobody may be left armed, whatever happened.
+    for i in 0..plan.drones.len() {
+        let s = swarm.snapshot(i);
+        assert!(
+            !s.armed,
+            "vehicle {} still armed after the flight",
+            s.system_id
+        );
+    }
+    swarm.shutdown().await;
+    result
+}
+
+/// Every drone reached its goal, separation from telemetry held, limits held.
+pub fn assert_success(log: &FlightLog) {
+    let s = &log.summary;
+    for line in s.lines() {
+        eprintln!("{line}");
+    }
+    assert!(s.completed, "flight did not complete: {:?}", log.events);
+    assert!(
+        s.min_separation_m >= s.safety_distance_m,
+        "separation {} m below safety distance {} m",
+        s.min_separation_m,
+        s.safety_distance_m
+    );
+    assert!(
+        s.max_final_distance_to_goal_m <= 0.1,
+        "a drone ended {} m from its goal",
+        s.max_final_distance_to_goal_m
+    );
+    // Telemetry speed includes the vehicle's own tracking; allow sensor noise.
+    assert!(
+        s.max_speed_mps <= s.speed_limit_mps * 1.05,
+        "telemetry speed {} m/s over the limit {}",
+        s.max_speed_mps,
+        s.speed_limit_mps
+    );
+    for d in &log.drones {
+        assert!(!d.samples.is_empty(), "{} has telemetry samples", d.id);
+    }
+}

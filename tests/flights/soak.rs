@@ -1,0 +1,49 @@
+//! Reduced soak: three flights back to back in one process must leave no file
+//! descriptors behind and keep memory flat. `swarmctl bench soak` runs ten.
+
+use std::path::Path;
+use std::time::Duration;
+use swarmctl::plan;
+use swarmctl_harness::fault_matrix::{Expect, Scenario, run_scenario};
+use swarmctl_harness::process_resources;
+use swarmctl_sitl::Flavour;
+
+#[test]
+fn three_flights_back_to_back_leak_no_descriptors() {
+    let mission =
+        swarmctl::mission::load(&crate::support::repo_path("missions/swap-corridor.yaml"))
+            .expect("mission");
+    let plan = plan::solve(&mission, &plan::PlanOptions::default())
+        .expect("plan")
+        .plan;
+    let runtime = tokio::runtime::Runtime::new().expect("runtime");
+    let scenario = Scenario {
+        name: "soak",
+        faults: Vec::new(),
+        flavour: Flavour::Px4,
+        expect: Expect::Completes,
+    };
+    let mut after = Vec::new();
+    for _ in 0..3 {
+        let report = runtime
+            .block_on(run_scenario(
+                &mission,
+                &plan,
+                &scenario,
+                Duration::from_secs(120),
+            ))
+            .expect("flight runs");
+        assert!(report.passed, "{:?}", report.failures);
+        after.push(process_resources());
+    }
+    eprintln!("{after:?}");
+    assert_eq!(
+        after[0].open_fds, after[2].open_fds,
+        "open file descriptors grew from flight 1 to flight 3"
+    );
+    let growth_mib = (after[2].rss_bytes as f64 - after[1].rss_bytes as f64) / 1048576.0;
+    assert!(
+        growth_mib < 8.0,
+        "resident memory grew {growth_mib:.1} MiB from flight 2 to flight 3"
+    );
+}

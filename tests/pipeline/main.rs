@@ -1,0 +1,14 @@
+//! The pipeline library on its own: mission files, planning, scheduling and plan
+//! files, with no simulator, viewer or command line linked.
+// Tests may unwrap, expect and run long: a failure is a failed test.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::too_many_lines)]
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod fuzz_plan;
+mod mission_validation;
+mod plan_optimality;
+mod schedule_cases;
+mod schedule_missions;
+mod schedule_props;
