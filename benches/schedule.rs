@@ -4,6 +4,9 @@
 //! `cargo bench --bench schedule` — prints, per size, events, type-2 edges and the
 //! makespan in seconds against the discrete makespan × voxel size / max speed.
 
+// A benchmark whose instance cannot be built should stop at once, loudly.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod schedule_instances;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};

@@ -2,7 +2,6 @@
 
 use assert_cmd::Command;
 use predicates::str::contains;
-use std::path::Path;
 
 fn swarmctl() -> Command {
     Command::cargo_bin("swarmctl").expect("binary built")

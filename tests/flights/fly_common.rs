@@ -1,8 +1,7 @@
 //! Shared helpers for the `fly_*` end-to-end tests: plan a mission, start the
 //! bundled SITL with faults, fly it, and check the log.
-#![allow(dead_code)] // each test binary uses a different subset
+#![allow(dead_code)] // each test uses a different subset
 
-use std::path::Path;
 use std::time::Duration;
 use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError, FlyOptions};
 use swarmctl::mission::{self, Mission};
@@ -36,7 +35,7 @@ pub async fn fly_bundled(
         swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz)
             .await
             .expect("sitl");
-    let mut options = FlyOptions::new(links);
+    let options = FlyOptions::new(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let result = tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort_rx))
         .await

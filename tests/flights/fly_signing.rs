@@ -162,7 +162,7 @@ async fn unsigned_third_party_commands_are_refused_while_the_signed_swarm_flies(
 async fn a_controller_without_the_key_cannot_arm_a_signed_swarm() {
     let key = SigningKey::from_hex(&"a5".repeat(32)).expect("key");
     let (mission, plan, swarm, links) = signed_swarm(&key).await;
-    let mut options = FlyOptions::new(links);
+    let options = FlyOptions::new(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let result = tokio::time::timeout(
         Duration::from_secs(60),

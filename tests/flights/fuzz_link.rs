@@ -1,4 +1,4 @@
-//! Hostile and broken MAVLink input on the controller's receive path (issue 8).
+//! Hostile and broken MAVLink input on the controller's receive path.
 //!
 //! Frames are built with `swarmctl_sitl::forge`, so they carry valid CRCs and get
 //! past the checksum into the message parser and [`fold`]:
