@@ -115,6 +115,11 @@ impl Route {
     }
 }
 
+/// Straight-line distance between two ENU points, metres.
+pub fn distance_m(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
 /// Arc length of an event: on the run in progress at its scheduled time (or the
 /// last finished one), projected onto that run.
 fn event_arc_m(runs: &[RouteRun], reach_s: f64, position_m: [f64; 3]) -> f64 {
