@@ -10,6 +10,7 @@ use std::time::Duration;
 pub struct VehicleLink {
     /// rust-mavlink address, e.g. `udpout:127.0.0.1:14540`.
     pub endpoint: String,
+    /// The vehicle's MAVLink system id: messages from any other system are ignored.
     pub system_id: u8,
 }
 
@@ -18,6 +19,7 @@ pub struct VehicleLink {
 pub struct FlyOptions {
     /// One per drone, in plan order.
     pub vehicles: Vec<VehicleLink>,
+    /// How long pre-flight waits for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
     /// Horizontal distance allowed between a vehicle and the point below its start voxel.
     pub start_tolerance_m: f64,
@@ -25,6 +27,8 @@ pub struct FlyOptions {
     pub settle_tolerance_m: f64,
     /// Plan execution gives up (holds, lands) after `factor × makespan + 30 s`.
     pub timeout_factor: f64,
+    /// How often and how long each command is tried before the vehicle counts
+    /// as refusing (raise it on lossy links).
     pub command_policy: CommandPolicy,
     /// See every telemetry sample, event and status live (a Rerun recorder, a
     /// status line), in this order.
@@ -49,6 +53,9 @@ impl std::fmt::Debug for FlyOptions {
 }
 
 impl FlyOptions {
+    /// Defaults for a calm link: 5 s for the first heartbeat, 0.3 m start
+    /// tolerance, 5 cm settle tolerance, 4 × makespan timeout, no observers,
+    /// unsigned.
     pub fn new(vehicles: Vec<VehicleLink>) -> Self {
         Self {
             vehicles,

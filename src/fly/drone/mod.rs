@@ -2,16 +2,14 @@
 //! about it and where it is in the flight. Everything else (the loop, the
 //! contingencies) goes through its methods.
 //!
-//! Takeoff differs by autopilot and lives in [`px4`] (OFFBOARD climb on our
-//! setpoints) and [`ardupilot`] (the vehicle's own takeoff); following the plan
-//! is in [`plan`]; landing and hand-over in [`landing`].
+//! Takeoff differs by autopilot and lives in `px4` (OFFBOARD climb on our
+//! setpoints) and `ardupilot` (the vehicle's own takeoff); following the plan
+//! is in `plan`; landing and hand-over in `landing`.
 
 mod ardupilot;
 mod landing;
 mod plan;
 mod px4;
-
-pub use plan::SwarmTick;
 
 use super::command::{Command, CommandError, CommandSender};
 use super::follower::{Follower, Setpoint};
@@ -28,6 +26,19 @@ use std::time::Instant;
 /// Position telemetry older than this (ten periods at 20 Hz) means we cannot see
 /// the drone: its commanded motion pauses long before the heartbeat timeout.
 const TELEMETRY_STALE_S: f64 = 0.5;
+
+/// What the whole swarm decides for every flying drone this tick.
+#[derive(Debug, Clone, Copy)]
+pub struct SwarmTick {
+    /// Seconds on the plan clock.
+    pub t_s: f64,
+    /// The setpoint period, seconds.
+    pub dt_s: f64,
+    /// Abort or timeout: every drone brakes to rest and stays.
+    pub aborting: bool,
+    /// A retiring drone needs the swarm at rest (see `contingency::swarm_paused`).
+    pub swarm_paused: bool,
+}
 
 /// Everything the loop keeps per drone.
 pub struct DroneRun {

@@ -1,25 +1,12 @@
 //! Following the plan: observed progress from telemetry, the first closed gate
 //! ahead, and the follower's commanded motion up to it.
 
-use super::DroneRun;
+use super::{DroneRun, SwarmTick};
 use crate::fly::follower::Hold;
 use crate::fly::gate::{Progress, closed_gate};
 use crate::fly::path::distance_m;
 use crate::fly::phase::Phase;
 use crate::fly::settings::LoopSettings;
-
-/// What the whole swarm decides for every flying drone this tick.
-#[derive(Debug, Clone, Copy)]
-pub struct SwarmTick {
-    /// Seconds on the plan clock.
-    pub t_s: f64,
-    /// The setpoint period, seconds.
-    pub dt_s: f64,
-    /// Abort or timeout: every drone brakes to rest and stays.
-    pub aborting: bool,
-    /// A retiring drone needs the swarm at rest (see `contingency::swarm_paused`).
-    pub swarm_paused: bool,
-}
 
 impl DroneRun {
     /// Folds telemetry into observed progress, while the drone is in the plan and
