@@ -19,9 +19,11 @@
 //! - **Autopilot failsafe** (the vehicle switched itself to land or return): we
 //!   do not fight it. The swarm pauses until it has landed, then resumes as above.
 
-use super::executor::{DroneRun, Phase};
+use super::drone::DroneRun;
+use super::follower::Hold;
 use super::log::LogEvent;
-use crate::link::Flavour;
+use super::phase::Phase;
+pub use super::phase::{RetireStage, Retirement};
 
 /// A drone silent this long is given up for this flight (its link may still come back).
 pub const LOST_AFTER_S: f64 = 10.0;
@@ -36,35 +38,16 @@ const AT_REST_MPS: f64 = 0.1;
 /// How long to let the swarm move before trying again to clear a blocked descent.
 const COLUMN_RETRY_S: f64 = 5.0;
 
-/// Why a drone left its plan early.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Retirement {
-    LowBattery,
-    AutopilotFailsafe,
-}
-
-/// Where a retiring drone is on its way down.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum RetireStage {
-    /// Waiting for itself and the swarm to come to rest.
-    Halting,
-    /// Its column was blocked: the swarm moves on until `retry_at`.
-    WaitColumn { retry_at_s: f64 },
-    /// The autopilot is landing it on its own.
-    AutopilotLanding,
-}
-
 /// Whether the swarm must be at rest this tick: a retiring drone is about to
 /// descend, or its autopilot is bringing it down.
 pub fn swarm_paused(drones: &[DroneRun]) -> bool {
     drones.iter().any(|d| {
         matches!(
-            d.phase,
+            d.phase(),
             Phase::Retiring {
                 stage: RetireStage::Halting | RetireStage::AutopilotLanding,
-                ..
             }
-        ) || matches!(d.phase, Phase::Landing { .. } if d.retired.is_some())
+        ) || matches!(d.phase(), Phase::Landing { .. } if d.retired().is_some())
     })
 }
 
@@ -72,12 +55,12 @@ pub fn swarm_paused(drones: &[DroneRun]) -> bool {
 /// last known position included) is below it within the safety distance
 /// horizontally. Returns the blocking drone otherwise.
 pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> Option<usize> {
-    let p = drones[i].position_m?;
+    let p = drones.get(i)?.position_m()?;
     drones.iter().enumerate().find_map(|(j, other)| {
-        if j == i || matches!(other.phase, Phase::Landed) {
+        if j == i || matches!(other.phase(), Phase::Landed) {
             return None;
         }
-        let q = other.position_m?;
+        let q = other.position_m()?;
         let horizontal = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
         let below = q[2] < p[2] && q[2] > AIRBORNE_M;
         (below && horizontal < safety_distance_m + COLUMN_MARGIN_M).then_some(j)
@@ -88,31 +71,24 @@ pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> 
 /// back if they are heard again.
 pub fn track_lost(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<LogEvent>) {
     for d in drones.iter_mut() {
-        match d.phase {
-            Phase::Flying | Phase::AtGoal if d.silent_s > LOST_AFTER_S => {
+        match d.phase() {
+            Phase::Flying | Phase::AtGoal if d.silent_s() > LOST_AFTER_S => {
                 events.push(LogEvent::new(
                     since_arm_s,
-                    Some(&d.id),
+                    Some(d.id()),
                     &format!(
                         "LOST: nothing heard for {LOST_AFTER_S:.0} s; left to its failsafe (hold), the drones that depend on it hold at their gates"
                     ),
                 ));
-                d.follower.set_paused(true);
-                d.phase = Phase::Lost {
-                    was_at_goal: matches!(d.phase, Phase::AtGoal),
-                };
+                d.mark_lost();
             }
-            Phase::Lost { was_at_goal } if !d.link_lost && !d.telemetry_stale => {
+            Phase::Lost { .. } if !d.link_lost() && !d.telemetry_stale() => {
                 events.push(LogEvent::new(
                     since_arm_s,
-                    Some(&d.id),
+                    Some(d.id()),
                     "heard again after being lost: back in the plan",
                 ));
-                d.phase = if was_at_goal {
-                    Phase::AtGoal
-                } else {
-                    Phase::Flying
-                };
+                d.rejoin_plan();
             }
             _ => {}
         }
@@ -122,39 +98,32 @@ pub fn track_lost(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<Lo
 /// Starts retiring drones whose battery is low or whose autopilot took over.
 pub fn detect_retirement(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<LogEvent>) {
     for d in drones.iter_mut() {
-        if !matches!(d.phase, Phase::Flying | Phase::AtGoal) || d.link_lost {
+        if !matches!(d.phase(), Phase::Flying | Phase::AtGoal) || d.link_lost() {
             continue;
         }
         let (battery, mode) = {
-            let s = d.session.state();
+            let s = d.session().state();
             (s.battery_remaining_pct, s.custom_mode)
         };
-        let why = if autopilot_failsafe_mode(d.flavour, mode) {
-            Retirement::AutopilotFailsafe
-        } else if battery.is_some_and(|pct| pct <= LOW_BATTERY_PCT) {
-            Retirement::LowBattery
-        } else {
-            continue;
-        };
-        let (message, stage) = match why {
-            Retirement::LowBattery => (
-                format!(
-                    "battery low ({}%): leaving the plan; the swarm pauses while it lands",
-                    battery.unwrap_or_default()
-                ),
-                RetireStage::Halting,
-            ),
-            Retirement::AutopilotFailsafe => (
+        let (why, message, stage) = if d.flavour().is_failsafe_mode(mode) {
+            (
+                Retirement::AutopilotFailsafe,
                 format!(
                     "autopilot failsafe took over (mode {mode:#x}): the swarm pauses while it lands"
                 ),
                 RetireStage::AutopilotLanding,
-            ),
+            )
+        } else if let Some(pct) = battery.filter(|pct| *pct <= LOW_BATTERY_PCT) {
+            (
+                Retirement::LowBattery,
+                format!("battery low ({pct}%): leaving the plan; the swarm pauses while it lands"),
+                RetireStage::Halting,
+            )
+        } else {
+            continue;
         };
-        events.push(LogEvent::new(since_arm_s, Some(&d.id), &message));
-        d.follower.halt();
-        d.retired = Some(why);
-        d.phase = Phase::Retiring { stage };
+        events.push(LogEvent::new(since_arm_s, Some(d.id()), &message));
+        d.retire(why, stage);
     }
 }
 
@@ -167,68 +136,73 @@ pub fn advance_retirements(
     events: &mut Vec<LogEvent>,
 ) {
     let swarm_at_rest = drones.iter().all(|d| {
-        !matches!(d.phase, Phase::Flying | Phase::Retiring { .. })
-            || (d.follower.at_rest() && d.speed_mps < AT_REST_MPS)
+        !matches!(d.phase(), Phase::Flying | Phase::Retiring { .. })
+            || (d.follower().at_rest() && d.speed_mps() < AT_REST_MPS)
     });
     for i in 0..drones.len() {
-        let Phase::Retiring { stage } = drones[i].phase else {
+        let &Phase::Retiring { stage } = drones[i].phase() else {
             continue;
         };
         let d = &mut drones[i];
-        let mode = d.session.state().custom_mode;
-        if stage != RetireStage::AutopilotLanding && autopilot_failsafe_mode(d.flavour, mode) {
+        let mode = d.session().state().custom_mode;
+        if stage != RetireStage::AutopilotLanding && d.flavour().is_failsafe_mode(mode) {
             events.push(LogEvent::new(
                 since_arm_s,
-                Some(&d.id),
+                Some(d.id()),
                 &format!("autopilot failsafe took over (mode {mode:#x}): the swarm stays paused while it lands"),
             ));
-            d.retired = Some(Retirement::AutopilotFailsafe);
-            d.phase = Phase::Retiring {
-                stage: RetireStage::AutopilotLanding,
-            };
+            d.retire(Retirement::AutopilotFailsafe, RetireStage::AutopilotLanding);
             continue;
         }
         match stage {
             RetireStage::Halting if swarm_at_rest => {
-                match column_blocker(drones, i, safety_distance_m) {
-                    None => {
-                        let d = &mut drones[i];
-                        events.push(LogEvent::new(
-                            since_arm_s,
-                            Some(&d.id),
-                            "swarm at rest and nothing below: descending",
-                        ));
-                        d.phase = Phase::Landing { task: None };
-                    }
-                    Some(j) => {
-                        let blocker = drones[j].id.clone();
-                        let d = &mut drones[i];
-                        events.push(LogEvent::new(
-                            since_arm_s,
-                            Some(&d.id),
-                            &format!("cannot descend: {blocker} is below; the swarm moves on, retrying in {COLUMN_RETRY_S:.0} s"),
-                        ));
-                        d.phase = Phase::Retiring {
-                            stage: RetireStage::WaitColumn {
-                                retry_at_s: since_arm_s + COLUMN_RETRY_S,
-                            },
-                        };
-                    }
-                }
+                try_descent(drones, i, safety_distance_m, since_arm_s, events);
             }
             RetireStage::WaitColumn { retry_at_s } if since_arm_s >= retry_at_s => {
-                drones[i].phase = Phase::Retiring {
-                    stage: RetireStage::Halting,
-                };
+                drones[i].set_retire_stage(RetireStage::Halting);
             }
             RetireStage::AutopilotLanding => {
                 let d = &mut drones[i];
-                let disarmed = !d.session.state().armed;
+                let disarmed = !d.session().state().armed;
                 if disarmed {
-                    d.phase = Phase::Landed;
+                    d.mark_landed();
                 }
             }
             _ => {}
+        }
+    }
+}
+
+/// A halted retiring drone with the swarm at rest: descends if nothing is below
+/// it, or lets the swarm move on for [`COLUMN_RETRY_S`] first.
+fn try_descent(
+    drones: &mut [DroneRun],
+    i: usize,
+    safety_distance_m: f64,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
+    match column_blocker(drones, i, safety_distance_m) {
+        None => {
+            let d = &mut drones[i];
+            events.push(LogEvent::new(
+                since_arm_s,
+                Some(d.id()),
+                "swarm at rest and nothing below: descending",
+            ));
+            d.begin_landing();
+        }
+        Some(j) => {
+            let blocker = drones[j].id().to_string();
+            let d = &mut drones[i];
+            events.push(LogEvent::new(
+                since_arm_s,
+                Some(d.id()),
+                &format!("cannot descend: {blocker} is below; the swarm moves on, retrying in {COLUMN_RETRY_S:.0} s"),
+            ));
+            d.set_retire_stage(RetireStage::WaitColumn {
+                retry_at_s: since_arm_s + COLUMN_RETRY_S,
+            });
         }
     }
 }
@@ -242,24 +216,16 @@ pub fn release_landed(
     events: &mut Vec<LogEvent>,
 ) {
     for d in drones.iter_mut() {
-        if d.retired.is_none() || !matches!(d.phase, Phase::Landed) || d.released {
+        if d.retired().is_none() || !matches!(d.phase(), Phase::Landed) || d.released() {
             continue;
         }
-        d.released = true;
-        if ground_clear {
-            d.progress.reached = d.route.events.len();
-            events.push(LogEvent::new(
-                since_arm_s,
-                Some(&d.id),
-                "landed: its remaining plan events are released, the swarm resumes",
-            ));
+        d.release_events(ground_clear);
+        let message = if ground_clear {
+            "landed: its remaining plan events are released, the swarm resumes"
         } else {
-            events.push(LogEvent::new(
-                since_arm_s,
-                Some(&d.id),
-                "landed inside the voxel world: the drones that depend on it keep holding",
-            ));
-        }
+            "landed inside the voxel world: the drones that depend on it keep holding"
+        };
+        events.push(LogEvent::new(since_arm_s, Some(d.id()), message));
     }
 }
 
@@ -268,23 +234,13 @@ pub fn release_landed(
 pub fn plan_stuck(drones: &[DroneRun]) -> bool {
     let someone_missing = drones
         .iter()
-        .any(|d| matches!(d.phase, Phase::Lost { .. } | Phase::Failed(_)));
+        .any(|d| matches!(d.phase(), Phase::Lost { .. } | Phase::Failed(_)));
     someone_missing
-        && drones.iter().all(|d| match d.phase {
-            Phase::Flying => d.follower.at_rest() && d.follower.hold == super::follower::Hold::Gate,
+        && drones.iter().all(|d| match d.phase() {
+            Phase::Flying => d.follower().at_rest() && d.follower().hold == Hold::Gate,
             Phase::AtGoal | Phase::Landed | Phase::Failed(_) | Phase::Lost { .. } => true,
             _ => false,
         })
-}
-
-/// Modes an autopilot enters by itself to bring a vehicle home or down.
-pub fn autopilot_failsafe_mode(flavour: Flavour, custom_mode: u32) -> bool {
-    let land = flavour.land_mode().custom_mode;
-    let rtl = match flavour {
-        Flavour::Px4 => 0x0504_0000, // AUTO.RTL
-        Flavour::Ardupilot => 6,     // RTL
-    };
-    custom_mode == land || custom_mode == rtl
 }
 
 /// Drones still waiting to land whose column stays blocked by a drone that will
@@ -292,7 +248,7 @@ pub fn autopilot_failsafe_mode(flavour: Flavour, custom_mode: u32) -> bool {
 pub fn stranded(drones: &[DroneRun], safety_distance_m: f64) -> Vec<usize> {
     let settled = drones.iter().all(|d| {
         matches!(
-            d.phase,
+            d.phase(),
             Phase::AwaitLanding
                 | Phase::Landed
                 | Phase::Failed(_)
@@ -304,7 +260,7 @@ pub fn stranded(drones: &[DroneRun], safety_distance_m: f64) -> Vec<usize> {
         return Vec::new();
     }
     (0..drones.len())
-        .filter(|&i| matches!(drones[i].phase, Phase::AwaitLanding))
+        .filter(|&i| matches!(drones[i].phase(), Phase::AwaitLanding))
         .filter(|&i| column_blocker(drones, i, safety_distance_m).is_some())
         .collect()
 }

@@ -3,20 +3,33 @@
 use crate::link::LinkError;
 use crate::schedule::ScheduleError;
 
+/// A failure before takeoff: nothing flew (anyone armed has been disarmed again).
 #[derive(Debug, thiserror::Error)]
 pub enum FlyError {
+    /// The plan cannot be turned into a schedule to fly.
     #[error("cannot schedule the plan: {0}")]
     Schedule(#[from] ScheduleError),
+    /// One vehicle is needed per planned drone.
     #[error("the plan has {plan} drones but {vehicles} vehicles were given")]
-    VehicleCount { plan: usize, vehicles: usize },
+    VehicleCount {
+        /// Drones in the plan.
+        plan: usize,
+        /// Vehicles in the fly options.
+        vehicles: usize,
+    },
+    /// A vehicle's MAVLink connection could not be opened.
     #[error("drone {drone}: {source}")]
     Link {
+        /// The drone's mission id.
         drone: String,
+        /// What the link reported.
         #[source]
         source: LinkError,
     },
+    /// Some vehicles failed pre-flight; one line per problem, naming the drone.
     #[error("pre-flight checks failed, nobody was armed:\n{}", .0.join("\n"))]
     Preflight(Vec<String>),
+    /// Some vehicles would not arm; one line per drone, refusals and disarms.
     #[error("arming failed, every armed drone was disarmed again:\n{}", .0.join("\n"))]
     Arming(Vec<String>),
 }

@@ -8,37 +8,78 @@ use std::time::Duration;
 #[derive(Debug, Clone, PartialEq)]
 pub enum FaultSpec {
     /// Drop this share of packets (percent) in each direction, every vehicle.
-    Loss { percent: f64 },
+    Loss {
+        /// Share of packets dropped, 0–100 %.
+        percent: f64,
+    },
     /// Add this latency in each direction, every vehicle.
-    Latency { latency: Duration },
+    Latency {
+        /// Extra one-way delay.
+        latency: Duration,
+    },
     /// Deliver this share of packets (percent) twice, each direction, every vehicle.
-    Duplicate { percent: f64 },
+    Duplicate {
+        /// Share of packets sent twice, 0–100 %.
+        percent: f64,
+    },
     /// Hold back this share of packets (percent) so later ones overtake them.
-    Reorder { percent: f64 },
+    Reorder {
+        /// Share of packets held back, 0–100 %.
+        percent: f64,
+    },
     /// Cut this drone's link `after` takeoff, for good.
-    Lose { drone: String, after: Duration },
+    Lose {
+        /// The drone's mission id.
+        drone: String,
+        /// Time after takeoff when the link is cut.
+        after: Duration,
+    },
     /// This drone's battery turns low `after` arming (a warning; it turns critical,
     /// and the autopilot lands it, 45 s later).
-    LowBattery { drone: String, after: Duration },
+    LowBattery {
+        /// The drone's mission id.
+        drone: String,
+        /// Time after arming when the battery turns low.
+        after: Duration,
+    },
     /// This drone's battery turns critical `after` arming with no warning first:
     /// its autopilot's failsafe lands it (PX4) or returns it (ArduPilot).
-    CriticalBattery { drone: String, after: Duration },
+    CriticalBattery {
+        /// The drone's mission id.
+        drone: String,
+        /// Time after arming when the battery turns critical.
+        after: Duration,
+    },
     /// This drone flies at `factor` times the speed it is commanded.
-    Slow { drone: String, factor: f64 },
+    Slow {
+        /// The drone's mission id.
+        drone: String,
+        /// Flown speed over commanded speed, in (0, 10].
+        factor: f64,
+    },
     /// Cut this drone's link `after` takeoff, for `duration`.
     Drop {
+        /// The drone's mission id.
         drone: String,
+        /// Time after takeoff when the link is cut.
         after: Duration,
+        /// How long it stays cut.
         duration: Duration,
     },
     /// This drone refuses to arm (fails its pre-arm checks).
-    RefuseArm { drone: String },
+    RefuseArm {
+        /// The drone's mission id.
+        drone: String,
+    },
 }
 
+/// A `--fault` value that does not parse; names the flag and what is wrong.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("--fault {flag}: {reason}")]
 pub struct FaultError {
+    /// The flag's value as given.
     pub flag: String,
+    /// What is wrong with it, with an example of the right form.
     pub reason: String,
 }
 

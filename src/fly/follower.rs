@@ -47,7 +47,9 @@ pub enum Hold {
 /// One commanded setpoint, ENU.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Setpoint {
+    /// Where the drone should be, ENU metres.
     pub position_m: [f64; 3],
+    /// How fast it should move there, ENU metres per second (feed-forward).
     pub velocity_mps: [f64; 3],
 }
 
@@ -66,10 +68,13 @@ pub struct Follower {
     /// Stop as soon as possible until unpaused (telemetry or link lost: the
     /// commanded target must not run away from a vehicle we cannot see).
     paused: bool,
+    /// Why it is not moving this tick, for gate-wait counting and the status view.
     pub hold: Hold,
 }
 
 impl Follower {
+    /// At rest at the start of the route, within the mission's speed (m/s) and
+    /// acceleration (m/s²) limits.
     pub fn new(max_speed_mps: f64, max_accel_mps2: f64) -> Self {
         Self {
             max_speed_mps,

@@ -5,13 +5,18 @@ use serde::{Deserialize, Serialize};
 /// Written as JSON by `swarmctl fly --log`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct FlightLog {
+    /// The mission's name.
     pub mission: String,
+    /// How the flight went, in numbers.
     pub summary: Summary,
+    /// Every drone's record, in plan order.
     pub drones: Vec<DroneLog>,
     /// Notable moments in order: link losses, aborts, refusals.
     pub events: Vec<LogEvent>,
 }
 
+/// How the flight went: completion, timing, separation and speed against the
+/// mission's limits, and which drones left the plan.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Summary {
     /// Every drone reached its goal and the swarm landed.
@@ -35,9 +40,11 @@ pub struct Summary {
     /// like `min_separation_m` when no two drones were airborne together.
     #[serde(default = "infinity", skip_serializing_if = "not_finite")]
     pub min_separation_takeoff_landing_m: f64,
+    /// The mission's safety distance, to read `min_separation_m` against, metres.
     pub safety_distance_m: f64,
     /// Highest speed reported by any drone's telemetry.
     pub max_speed_mps: f64,
+    /// The mission's speed limit, to read `max_speed_mps` against.
     pub speed_limit_mps: f64,
     /// Times a drone stopped (or could not start) because a TPG predecessor was late.
     pub gating_waits: usize,
@@ -56,31 +63,45 @@ pub struct Summary {
     pub handed_over: Vec<String>,
 }
 
+/// One drone's record: which vehicle flew it, how close it got, how long it
+/// waited, and its whole telemetry track.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DroneLog {
+    /// The drone's mission id.
     pub id: String,
+    /// The vehicle's MAVLink system id.
     pub system_id: u8,
+    /// The vehicle's MAVLink address.
     pub endpoint: String,
+    /// `px4` or `ardupilot`, as its HEARTBEAT said.
     pub autopilot: Option<String>,
     /// Goal voxel centre, ENU metres.
     pub goal_m: [f64; 3],
     /// Distance to the goal when plan execution ended (before landing), metres.
     pub final_distance_to_goal_m: Option<f64>,
+    /// Times it stopped (or could not start) because a TPG predecessor was late.
     pub gating_waits: usize,
+    /// Time it spent waiting at closed gates, seconds.
     pub gating_wait_s: f64,
+    /// Times its link was lost (nothing heard for the mission's link timeout).
     pub link_losses: usize,
     /// Telemetry samples `[t_s, x_m, y_m, z_m]` (ENU; t from the first arm command).
     pub samples: Vec<[f64; 4]>,
 }
 
+/// A notable moment of the flight: a link loss, an abort, a refusal.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LogEvent {
+    /// Seconds since the first arm command.
     pub t_s: f64,
+    /// The drone it concerns (mission id), or `None` for the whole swarm.
     pub drone: Option<String>,
+    /// What happened, for people (tests match on these texts).
     pub message: String,
 }
 
 impl LogEvent {
+    /// An event `t_s` seconds after the first arm command.
     pub fn new(t_s: f64, drone: Option<&str>, message: &str) -> Self {
         Self {
             t_s,

@@ -12,8 +12,11 @@ use crate::trajectory::{DroneTrajectory, Profile};
 /// One straight run of the route (ENU metres).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RouteRun {
+    /// Where the run starts (at rest).
     pub from_m: [f64; 3],
+    /// Where the run ends (at rest).
     pub to_m: [f64; 3],
+    /// Straight-line length of the run, metres.
     pub length_m: f64,
     /// Arc length of the route at `from_m`.
     pub arc_start_m: f64,
@@ -51,7 +54,9 @@ impl RouteRun {
 /// One TPG event placed on the route.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RouteEvent {
+    /// Arc length along the route where the event lies, metres.
     pub arc_m: f64,
+    /// When the schedule reaches it, seconds on the plan clock (for the status view).
     pub reach_s: f64,
     /// Events of other drones that must be observed reached before this drone may
     /// move past `arc_m`.
@@ -61,9 +66,13 @@ pub struct RouteEvent {
 /// A drone's whole route: runs and events, both ordered along the path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Route {
+    /// The drone's mission id.
     pub id: String,
+    /// The start voxel centre, where takeoff ends.
     pub start_m: [f64; 3],
+    /// The straight runs, in order; empty for a drone that stays put.
     pub runs: Vec<RouteRun>,
+    /// Its TPG events, in order along the route.
     pub events: Vec<RouteEvent>,
 }
 
@@ -113,6 +122,11 @@ impl Route {
     pub fn goal_m(&self) -> [f64; 3] {
         self.runs.last().map_or(self.start_m, |r| r.to_m)
     }
+}
+
+/// Straight-line distance between two ENU points, metres.
+pub fn distance_m(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 /// Arc length of an event: on the run in progress at its scheduled time (or the

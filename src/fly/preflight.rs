@@ -11,6 +11,7 @@ use tokio::task::JoinSet;
 /// How a vehicle must present itself before the swarm may arm.
 #[derive(Debug, Clone, Copy)]
 pub struct PreflightLimits {
+    /// How long to wait for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
     /// Horizontal distance allowed between a vehicle and the ground point below its start voxel.
     pub start_tolerance_m: f64,
@@ -105,10 +106,14 @@ pub async fn check_all(
         failures.sort();
         return Err(FlyError::Preflight(failures));
     }
-    Ok(flavours
+    // Every task answered (a failed one is a failure above), so each drone has a
+    // flavour; a missing one is still reported rather than guessed.
+    flavours
         .into_iter()
-        .map(|f| f.unwrap_or(Flavour::Px4))
-        .collect())
+        .zip(ids)
+        .map(|(f, id)| f.ok_or_else(|| format!("  {id}: no pre-flight result")))
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(|line| FlyError::Preflight(vec![line]))
 }
 
 /// Arms everyone (ArduPilot: GUIDED first, as Copter takes off only from GUIDED).

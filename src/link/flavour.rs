@@ -8,14 +8,18 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Flavour {
+    /// PX4: takes off and flies on our setpoints in OFFBOARD.
     Px4,
+    /// ArduPilot Copter: takes off by command in GUIDED, then follows our setpoints.
     Ardupilot,
 }
 
 /// A mode request as MAV_CMD_DO_SET_MODE parameters 2 and 3.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModeRequest {
+    /// DO_SET_MODE param2: PX4's main mode, or ArduPilot's mode number.
     pub param2: f32,
+    /// DO_SET_MODE param3: PX4's sub mode (0 for ArduPilot).
     pub param3: f32,
     /// The HEARTBEAT custom_mode that confirms the vehicle is in this mode.
     pub custom_mode: u32,
@@ -74,6 +78,16 @@ impl Flavour {
         }
     }
 
+    /// Whether `custom_mode` is one the autopilot enters by itself to bring a
+    /// vehicle home or down (land, return): a failsafe we never fight.
+    pub fn is_failsafe_mode(self, custom_mode: u32) -> bool {
+        let rtl = match self {
+            Flavour::Px4 => px4(4, 5),       // AUTO.RTL
+            Flavour::Ardupilot => copter(6), // RTL
+        };
+        custom_mode == self.land_mode().custom_mode || custom_mode == rtl.custom_mode
+    }
+
     /// ArduPilot must take off with MAV_CMD_NAV_TAKEOFF in GUIDED and only accepts
     /// position targets once flying; PX4 in OFFBOARD climbs on our setpoints.
     pub fn takes_off_by_command(self) -> bool {
@@ -108,5 +122,15 @@ mod tests {
     fn ardupilot_modes_are_copter_numbers() {
         assert_eq!(Flavour::Ardupilot.external_control_mode().custom_mode, 4);
         assert_eq!(Flavour::Ardupilot.land_mode().custom_mode, 9);
+    }
+
+    #[test]
+    fn failsafe_modes_are_land_and_return() {
+        assert!(Flavour::Px4.is_failsafe_mode(0x0504_0000));
+        assert!(Flavour::Px4.is_failsafe_mode(0x0604_0000));
+        assert!(!Flavour::Px4.is_failsafe_mode(0x0006_0000));
+        assert!(Flavour::Ardupilot.is_failsafe_mode(6));
+        assert!(Flavour::Ardupilot.is_failsafe_mode(9));
+        assert!(!Flavour::Ardupilot.is_failsafe_mode(4));
     }
 }

@@ -26,7 +26,9 @@ use tokio::task::JoinHandle;
 /// How often and how long a command is tried before giving up.
 #[derive(Debug, Clone, Copy)]
 pub struct CommandPolicy {
+    /// Tries before a silent vehicle counts as not acknowledging.
     pub attempts: u8,
+    /// How long each try waits for its COMMAND_ACK.
     pub ack_timeout: Duration,
 }
 
@@ -53,7 +55,9 @@ const SYS_STATUS_ID: f32 = 1.0;
 
 /// A live session; dropping it stops its tasks.
 pub struct Session {
+    /// The vehicle's MAVLink system id; messages from other systems are ignored.
     pub system_id: u8,
+    /// The rust-mavlink address the session was opened on (for error messages).
     pub endpoint: String,
     connection: Arc<AsyncConnection<MavMessage>>,
     state: Arc<Mutex<VehicleState>>,

@@ -33,10 +33,22 @@ impl std::fmt::Debug for SigningKey {
 /// Why a key could not be read. Messages name the source, never the key text.
 #[derive(Debug, thiserror::Error)]
 pub enum SigningKeyError {
+    /// The key file cannot be read or does not hold a key.
     #[error("signing key file {file}: {problem}")]
-    File { file: PathBuf, problem: String },
+    File {
+        /// The file named on the command line.
+        file: PathBuf,
+        /// What is wrong with it (never its contents).
+        problem: String,
+    },
+    /// The environment variable is unset or does not hold a key.
     #[error("signing key environment variable {var}: {problem}")]
-    Env { var: String, problem: String },
+    Env {
+        /// The variable's name.
+        var: String,
+        /// What is wrong with it (never its value).
+        problem: String,
+    },
 }
 
 impl SigningKey {

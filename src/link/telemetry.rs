@@ -7,30 +7,39 @@ use std::time::Instant;
 /// One LOCAL_POSITION_NED sample, stamped on arrival.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PositionSample {
+    /// When it arrived here (the vehicle's own clock is not comparable to ours).
     pub received: Instant,
+    /// Local position, NED metres from the vehicle's home.
     pub position_ned_m: [f32; 3],
+    /// Velocity, NED metres per second.
     pub velocity_ned_mps: [f32; 3],
 }
 
 /// What the reader task has learned so far. Everything is optional until heard.
 ///
 /// Only messages from the vehicle's own system id change it; see
-/// [`super::receive::fold`] for the rules.
+/// `receive::fold` (the reader's half of the link) for the rules.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct VehicleState {
     /// The last HEARTBEAT from the vehicle's autopilot component.
     pub last_heartbeat: Option<Instant>,
     /// The last message of any kind from the vehicle's system id: the link is alive.
     pub last_message: Option<Instant>,
+    /// The autopilot family from the HEARTBEAT (`None` for one we cannot fly).
     pub flavour: Option<Flavour>,
     /// HEARTBEAT autopilot field as text, for error messages about unknown autopilots.
     pub autopilot_name: Option<String>,
+    /// HEARTBEAT base_mode says SAFETY_ARMED.
     pub armed: bool,
+    /// HEARTBEAT custom_mode: the flight mode in the autopilot's own encoding
+    /// (see [`super::flavour::ModeRequest::custom_mode`]).
     pub custom_mode: u32,
+    /// The newest LOCAL_POSITION_NED.
     pub position: Option<PositionSample>,
     /// `time_boot_ms` of the newest accepted LOCAL_POSITION_NED (older samples are
     /// late or replayed packets and are ignored).
     pub position_time_boot_ms: Option<u32>,
+    /// EXTENDED_SYS_STATE landed state (on ground, taking off, in air, landing).
     pub landed_state: Option<MavLandedState>,
     /// SYS_STATUS says pre-arm checks pass (`None` until a SYS_STATUS arrives).
     pub prearm_ok: Option<bool>,
@@ -41,6 +50,7 @@ pub struct VehicleState {
     pub last_status_text: Option<String>,
     /// Every position sample received, for the flight log (when recording is on).
     pub track: Vec<PositionSample>,
+    /// Append every position sample to `track` (on from arming, for the flight log).
     pub recording: bool,
 }
 

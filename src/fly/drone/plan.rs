@@ -1,0 +1,78 @@
+//! Following the plan: observed progress from telemetry, the first closed gate
+//! ahead, and the follower's commanded motion up to it.
+
+use super::{DroneRun, SwarmTick};
+use crate::fly::follower::Hold;
+use crate::fly::gate::{Progress, closed_gate};
+use crate::fly::path::distance_m;
+use crate::fly::phase::Phase;
+use crate::fly::settings::LoopSettings;
+
+impl DroneRun {
+    /// Folds telemetry into observed progress, while the drone is in the plan and
+    /// we can see it.
+    pub fn observe_progress(&mut self, t_s: f64) {
+        let observed = matches!(
+            self.phase,
+            Phase::Flying | Phase::AtGoal | Phase::Retiring { .. }
+        );
+        if !observed || self.link_lost || self.telemetry_stale {
+            return;
+        }
+        if let Some(p) = self.position_m {
+            let arc = self.follower.arc_m(&self.route, t_s);
+            let run = self.follower.run_index();
+            self.progress.observe(&self.route, p, arc, run);
+        }
+    }
+
+    /// Moves the commanded motion on to the first closed gate (from everyone's
+    /// observed `progress`), counting gate waits; at its goal once the route is
+    /// done and telemetry has settled there.
+    pub fn step_plan(&mut self, settings: &LoopSettings, tick: SwarmTick, progress: &[Progress]) {
+        if !matches!(self.phase, Phase::Flying) && !self.phase.retiring_on_our_setpoints() {
+            return;
+        }
+        let SwarmTick {
+            t_s,
+            dt_s,
+            aborting,
+            swarm_paused,
+        } = tick;
+        if aborting {
+            self.follower.halt();
+        }
+        let arc = self.follower.arc_m(&self.route, t_s);
+        let (gate_arc_m, blocker) =
+            closed_gate(&self.route, &mut self.passed_events, progress, arc);
+        let rest_point = self.follower.setpoint(&self.route, t_s).position_m;
+        let settled = self
+            .position_m
+            .is_some_and(|p| distance_m(p, rest_point) <= settings.settle_tolerance_m);
+        let paused = self.link_lost || self.telemetry_stale || self.resuming() || swarm_paused;
+        let was_gated = self.follower.hold == Hold::Gate;
+        self.follower.set_paused(paused);
+        let setpoint = self
+            .follower
+            .step(&self.route, t_s, dt_s, gate_arc_m, settled);
+        // A paused drone waits for its own link, not for a TPG predecessor.
+        if self.follower.hold == Hold::Gate && !aborting && !paused {
+            if !was_gated {
+                self.gating_waits += 1;
+            }
+            self.gating_wait_s += dt_s;
+            self.waiting_for = blocker;
+        } else {
+            self.waiting_for = None;
+        }
+        self.last_setpoint = Some(setpoint);
+        if matches!(self.phase, Phase::Flying)
+            && self.follower.finished(&self.route)
+            && self
+                .position_m
+                .is_some_and(|p| distance_m(p, self.route.goal_m()) <= settings.settle_tolerance_m)
+        {
+            self.phase = Phase::AtGoal;
+        }
+    }
+}

@@ -1,0 +1,71 @@
+//! How to reach the vehicles and how strict the flight is.
+
+use super::observer::FlightObserver;
+use crate::link::{CommandPolicy, SigningKey};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// Where to reach one drone's autopilot.
+#[derive(Debug, Clone)]
+pub struct VehicleLink {
+    /// rust-mavlink address, e.g. `udpout:127.0.0.1:14540`.
+    pub endpoint: String,
+    /// The vehicle's MAVLink system id: messages from any other system are ignored.
+    pub system_id: u8,
+}
+
+/// Everything `fly` needs besides the mission and plan.
+#[derive(Clone)]
+pub struct FlyOptions {
+    /// One per drone, in plan order.
+    pub vehicles: Vec<VehicleLink>,
+    /// How long pre-flight waits for each vehicle's first HEARTBEAT.
+    pub heartbeat_timeout: Duration,
+    /// Horizontal distance allowed between a vehicle and the point below its start voxel.
+    pub start_tolerance_m: f64,
+    /// Telemetry this close to a commanded rest point counts as arrived.
+    pub settle_tolerance_m: f64,
+    /// Plan execution gives up (holds, lands) after `factor × makespan + 30 s`.
+    pub timeout_factor: f64,
+    /// How often and how long each command is tried before the vehicle counts
+    /// as refusing (raise it on lossy links).
+    pub command_policy: CommandPolicy,
+    /// See every telemetry sample, event and status live (a Rerun recorder, a
+    /// status line), in this order.
+    pub observers: Vec<Arc<dyn FlightObserver>>,
+    /// MAVLink 2 signing key shared with the vehicles; `None` flies unsigned.
+    pub signing_key: Option<SigningKey>,
+}
+
+impl std::fmt::Debug for FlyOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FlyOptions")
+            .field("vehicles", &self.vehicles)
+            .field("heartbeat_timeout", &self.heartbeat_timeout)
+            .field("start_tolerance_m", &self.start_tolerance_m)
+            .field("settle_tolerance_m", &self.settle_tolerance_m)
+            .field("timeout_factor", &self.timeout_factor)
+            .field("command_policy", &self.command_policy)
+            .field("observers", &self.observers.len())
+            .field("signing_key", &self.signing_key)
+            .finish()
+    }
+}
+
+impl FlyOptions {
+    /// Defaults for a calm link: 5 s for the first heartbeat, 0.3 m start
+    /// tolerance, 5 cm settle tolerance, 4 × makespan timeout, no observers,
+    /// unsigned.
+    pub fn new(vehicles: Vec<VehicleLink>) -> Self {
+        Self {
+            vehicles,
+            heartbeat_timeout: Duration::from_secs(5),
+            start_tolerance_m: 0.3,
+            settle_tolerance_m: 0.05,
+            timeout_factor: 4.0,
+            command_policy: CommandPolicy::default(),
+            observers: Vec::new(),
+            signing_key: None,
+        }
+    }
+}

@@ -1,0 +1,95 @@
+//! The flight log's per-drone records and summary, built from the drones after
+//! the loop has ended.
+
+use super::drone::DroneRun;
+use super::executor::Outcome;
+use super::log::{DroneLog, Summary};
+use super::options::VehicleLink;
+use super::phase::Phase;
+use crate::link::frames;
+use crate::mission::Limits;
+use std::time::Instant;
+
+/// What the summary needs besides the loop's measurements.
+pub struct Flown<'a> {
+    /// Every drone, in plan order, as the loop left them.
+    pub drones: &'a [DroneRun],
+    /// Their log records (see [`drone_logs`]).
+    pub logs: &'a [DroneLog],
+    /// From the first arm command to the end of the loop, seconds.
+    pub duration_s: f64,
+    /// The schedule's makespan, seconds.
+    pub planned_makespan_s: f64,
+    /// The mission's limits (safety distance, speed limit).
+    pub limits: &'a Limits,
+}
+
+/// Each drone's record for the flight log; telemetry times are seconds since `armed_at`.
+pub fn drone_logs(
+    drones: &[DroneRun],
+    vehicles: &[VehicleLink],
+    armed_at: Instant,
+) -> Vec<DroneLog> {
+    drones
+        .iter()
+        .zip(vehicles)
+        .map(|(d, v)| {
+            let s = d.session().state();
+            DroneLog {
+                id: d.id().to_string(),
+                system_id: v.system_id,
+                endpoint: v.endpoint.clone(),
+                autopilot: Some(d.flavour().to_string()),
+                goal_m: d.route().goal_m(),
+                final_distance_to_goal_m: d.final_distance_to_goal_m(),
+                gating_waits: d.gating_waits(),
+                gating_wait_s: d.gating_wait_s(),
+                link_losses: d.link_losses(),
+                samples: s
+                    .track
+                    .iter()
+                    .map(|p| {
+                        let e = frames::enu_from_ned_f32(p.position_ned_m);
+                        let t = p.received.saturating_duration_since(armed_at).as_secs_f64();
+                        [t, e[0], e[1], e[2]]
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// How the flight went, for the log and the command line.
+pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
+    let drones = flown.drones;
+    let logs = flown.logs;
+    Summary {
+        completed: outcome.completed,
+        duration_s: flown.duration_s,
+        planned_makespan_s: flown.planned_makespan_s,
+        executed_makespan_s: outcome.executed_makespan_s,
+        min_separation_m: outcome.min_separation_m,
+        closest_pair: outcome.closest_pair.clone(),
+        min_separation_takeoff_landing_m: outcome.min_separation_takeoff_landing_m,
+        safety_distance_m: flown.limits.safety_distance_m,
+        max_speed_mps: outcome.max_speed_mps,
+        speed_limit_mps: flown.limits.max_speed_mps,
+        gating_waits: logs.iter().map(|d| d.gating_waits).sum(),
+        gating_wait_s: logs.iter().map(|d| d.gating_wait_s).sum(),
+        lost: ids_where(drones, |d| matches!(d.phase(), Phase::Lost { .. })),
+        retired: ids_where(drones, |d| d.retired().is_some()),
+        handed_over: ids_where(drones, |d| matches!(d.phase(), Phase::HandedOver { .. })),
+        max_final_distance_to_goal_m: logs
+            .iter()
+            .filter_map(|d| d.final_distance_to_goal_m)
+            .fold(0.0, f64::max),
+    }
+}
+
+fn ids_where(drones: &[DroneRun], keep: impl Fn(&DroneRun) -> bool) -> Vec<String> {
+    drones
+        .iter()
+        .filter(|d| keep(d))
+        .map(|d| d.id().to_string())
+        .collect()
+}

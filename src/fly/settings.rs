@@ -1,0 +1,24 @@
+//! The flight loop's tunables, taken from the mission and the fly options once.
+
+/// Tunables of the loop.
+#[derive(Debug, Clone, Copy)]
+pub struct LoopSettings {
+    /// Setpoints per second to every drone; also the loop's tick rate, hertz.
+    pub setpoint_rate_hz: f64,
+    /// Nothing heard for this long counts as a lost link (the follower pauses), seconds.
+    pub link_timeout_s: f64,
+    /// The mission's speed limit, for the PX4 climb profile, metres per second.
+    pub max_speed_mps: f64,
+    /// The mission's acceleration limit, for the PX4 climb profile, m/s².
+    pub max_accel_mps2: f64,
+    /// Telemetry this close to a commanded rest point counts as settled there.
+    pub settle_tolerance_m: f64,
+    /// Give up on plan execution (hold, then land) after this long.
+    pub execution_timeout_s: f64,
+    /// The mission's minimum separation: a drone descends only when no other is
+    /// below it within this distance horizontally, metres.
+    pub safety_distance_m: f64,
+    /// The ground lies below the voxel world by at least the safety distance, so a
+    /// landed drone is in nobody's way.
+    pub ground_clear: bool,
+}
