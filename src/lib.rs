@@ -11,6 +11,7 @@ pub mod import;
 pub mod link;
 pub mod mission;
 pub mod plan;
+pub mod profile;
 pub mod schedule;
 pub mod trajectory;
 pub mod verify;

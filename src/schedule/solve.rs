@@ -15,7 +15,7 @@
 use super::ScheduleError;
 use super::stn::Stn;
 use super::tpg::Tpg;
-use crate::trajectory::Profile;
+use crate::profile::Profile;
 use serde::{Deserialize, Serialize};
 
 /// One straight rest-to-rest run of one drone.

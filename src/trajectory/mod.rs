@@ -28,9 +28,9 @@
 //! assert_eq!(samples[0][60], [3.0, 2.0, 0.0, 0.0]);
 //! ```
 
-mod profile;
-
-pub use profile::Profile;
+/// The speed profile of a run; it lives in [`crate::profile`], below both the
+/// scheduler and this module, and is re-exported here because every run carries one.
+pub use crate::profile::Profile;
 
 use crate::mission::Mission;
 use crate::plan::DiscretePlan;

@@ -2,7 +2,8 @@
 //!
 //! This is what `swarmctl plan -o PLAN.json` writes and `swarmctl fly --plan` reads.
 //! Compiling checks the sampled trajectories with the independent separation checker
-//! and refuses a plan that breaks any limit.
+//! and refuses a plan that breaks any limit. [`file::load`] reads a plan file back for
+//! flight and refuses one that does not fit its mission.
 
 use crate::mission::Mission;
 use crate::plan::{DiscretePlan, PlanStats, Solution};
@@ -10,6 +11,10 @@ use crate::schedule::{self, ExecutionPlan, ScheduleError};
 use crate::verify::{self, CheckError, SeparationReport};
 use crate::world::Voxel;
 use serde::{Deserialize, Serialize};
+
+pub mod file;
+
+pub use file::PlanFileError;
 
 /// The plan file (see ARCHITECTURE.md for the fixed fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -1,6 +1,6 @@
 //! Reading a plan file for flight, trusting nothing in it.
 //!
-//! `swarmctl plan -o PLAN.json` writes a [`CompiledPlan`](crate::compiled::CompiledPlan);
+//! `swarmctl plan -o PLAN.json` writes a [`CompiledPlan`](super::CompiledPlan);
 //! `swarmctl fly MISSION --plan PLAN.json` flies it. Between the two the file may
 //! have been edited, truncated, corrupted or written by someone else, so [`load`]
 //! checks it before anything is started:
@@ -23,9 +23,8 @@
 //! and `check` are never flown and are not looked at; a file holding only the
 //! discrete plan is accepted too. Every error names the file.
 
-use super::discrete_plan::{DiscretePlan, DronePlan};
-use super::validator::validate_plan;
 use crate::mission::Mission;
+use crate::plan::{DiscretePlan, DronePlan, validate_plan};
 use crate::world::Voxel;
 use serde::de::DeserializeOwned;
 use serde_json::{Map, Value};
