@@ -38,23 +38,33 @@ const MAX_LISTED: usize = 20;
 pub enum PlanFileError {
     // The underlying errors are part of the message and deliberately not
     // `#[source]`s: `{:#}` would print them twice.
+    /// The file could not be read.
     #[error("cannot read plan file {}: {error}", .path.display())]
     Read {
+        /// The plan file.
         path: PathBuf,
+        /// What the operating system said.
         error: std::io::Error,
     },
+    /// The file is not JSON; the error names line and column.
     #[error("plan file {} is not valid JSON: {error}", .path.display())]
     Syntax {
+        /// The plan file.
         path: PathBuf,
+        /// The parser's error, with line and column.
         error: serde_json::Error,
     },
+    /// A field is missing or of the wrong type.
     #[error("plan file {}: {field}: {reason}", .path.display())]
     Field {
+        /// The plan file.
         path: PathBuf,
         /// Where in the file, e.g. `drones[2].path[14]`.
         field: String,
+        /// What is wrong there.
         reason: String,
     },
+    /// The file parses but is not a valid plan for the mission.
     #[error(
         "plan file {} is not a valid plan for mission {mission:?}{}:\n  {}",
         .path.display(),
@@ -62,10 +72,13 @@ pub enum PlanFileError {
         list(.problems)
     )]
     Invalid {
+        /// The plan file.
         path: PathBuf,
+        /// The mission it was checked against.
         mission: String,
         /// The mission the file says it was written for, if it says.
         written_for: Option<String>,
+        /// Everything found wrong, one sentence each.
         problems: Vec<String>,
     },
 }
