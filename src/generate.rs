@@ -10,11 +10,17 @@ use rand_chacha::ChaCha8Rng;
 /// What to generate. [`Default`] gives the paper's setting.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GenerateOptions {
+    /// World size in voxels along x (east), y (north), z (up).
     pub dimensions: [u32; 3],
+    /// Number of obstacle voxels to place.
     pub obstacles: usize,
+    /// Number of drones (each gets its own goal).
     pub drones: usize,
+    /// Number of groups the drones are dealt into, as evenly as possible.
     pub groups: usize,
+    /// Seeds the random layout; the same options give the same mission.
     pub seed: u64,
+    /// Edge length of one voxel, metres.
     pub voxel_size_m: f64,
 }
 
@@ -34,8 +40,12 @@ impl Default for GenerateOptions {
 /// Why no mission could be generated.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum GenerateError {
+    /// The options cannot be met at all (e.g. more drones than free voxels); the
+    /// message says which.
     #[error("{0}")]
     Impossible(String),
+    /// Every obstacle layout drawn (the count given) split the free space; fewer
+    /// obstacles would help.
     #[error(
         "no obstacle layout with connected free space found in {0} attempts; use fewer obstacles"
     )]

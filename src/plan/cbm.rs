@@ -3,10 +3,12 @@
 
 use super::conflict::{Conflict, first_conflict};
 use super::constraints::Constraints;
+use super::error::PlanError;
 use super::low_level::{GroupRouting, LowLevelWork, min_horizon, route};
 use super::network::{GroupCells, Reservation};
-use super::solve::{PlanError, PlanOptions, PlanStats, Progress};
+use super::options::PlanOptions;
 use super::space::Space;
+use super::stats::{PlanStats, Progress};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::rc::Rc;

@@ -17,8 +17,11 @@ pub struct DiscretePlan {
 /// One drone's assignment and path.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DronePlan {
+    /// The drone's id in the mission.
     pub id: String,
+    /// The name of the drone's group.
     pub group: String,
+    /// The goal of its group assigned to this drone (the path's last voxel).
     pub goal: Voxel,
     /// The voxel at every step from 0 to `makespan_steps` inclusive; the goal is
     /// repeated once reached.

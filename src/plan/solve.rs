@@ -1,95 +1,23 @@
-//! The planner's entry point: options, result, counters and errors.
+//! The planner's entry point: from a mission to its plan and the search's figures.
 
 use super::cbm::{Search, arrival_step};
 use super::discrete_plan::{DiscretePlan, DronePlan};
+use super::error::PlanError;
 use super::lower_bound::group_lower_bound;
 use super::network::GroupCells;
+use super::options::PlanOptions;
 use super::space::Space;
+use super::stats::{PlanStats, Progress};
 use crate::mission::Mission;
-use std::time::{Duration, Instant};
-
-/// How to plan.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlanOptions {
-    /// Give up after this long, reporting the best lower bound proven so far.
-    pub deadline: Duration,
-    /// Breaks ties between equally good paths; the same seed gives the same plan.
-    pub seed: u64,
-}
-
-impl Default for PlanOptions {
-    fn default() -> Self {
-        Self {
-            deadline: Duration::from_secs(60),
-            seed: 0,
-        }
-    }
-}
-
-/// Counters describing the search, for reports and benchmarks.
-#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
-pub struct PlanStats {
-    /// Makespan lower bound before search (bottleneck assignment, collisions ignored).
-    pub initial_lower_bound_steps: u32,
-    /// Highest makespan of any conflict-tree node expanded: a proven lower bound.
-    pub best_lower_bound_steps: u32,
-    pub ct_nodes_expanded: u64,
-    pub ct_nodes_generated: u64,
-    pub low_level_calls: u64,
-    pub flow_augmentations: u64,
-    #[serde(rename = "low_level_time_s", serialize_with = "as_seconds")]
-    pub low_level_time: Duration,
-    #[serde(rename = "total_time_s", serialize_with = "as_seconds")]
-    pub total_time: Duration,
-}
-
-fn as_seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_f64(d.as_secs_f64())
-}
-
-impl PlanStats {
-    /// Time spent in the conflict tree itself (conflict detection, bookkeeping).
-    pub fn high_level_time(&self) -> Duration {
-        self.total_time.saturating_sub(self.low_level_time)
-    }
-}
-
-/// Reported while the search runs, a few times a second.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Progress {
-    pub ct_nodes_expanded: u64,
-    pub open_nodes: usize,
-    pub best_lower_bound_steps: u32,
-    pub elapsed: Duration,
-}
+use std::time::Instant;
 
 /// A plan with the figures that go with it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Solution {
+    /// One path per drone, makespan-optimal.
     pub plan: DiscretePlan,
+    /// How the search went: bounds, node counts, time.
     pub stats: PlanStats,
-}
-
-/// Why no plan was returned.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum PlanError {
-    #[error(
-        "no plan within the deadline of {deadline:?} ({ct_nodes} conflict-tree nodes expanded); \
-         the optimal makespan is at least {best_lower_bound_steps} steps"
-    )]
-    Deadline {
-        deadline: Duration,
-        best_lower_bound_steps: u32,
-        ct_nodes: u64,
-    },
-    #[error("group {0:?} cannot be matched to distinct reachable goals")]
-    Unreachable(String),
-    #[error("no plan with a makespan of at most {0} steps")]
-    HorizonExceeded(u32),
-    #[error("the conflict tree was exhausted without a plan")]
-    NoSolution,
-    #[error("internal planner error: {0}")]
-    Internal(&'static str),
 }
 
 /// Plans `mission` makespan-optimally (see [`solve_with_progress`]).

@@ -14,30 +14,51 @@ pub enum ScheduleError {
          distance or a smaller safety distance"
     )]
     SafetyDistanceTooLarge {
+        /// The mission's safety distance, metres.
         safety_distance_m: f64,
+        /// The mission's voxel edge length, metres.
         voxel_size_m: f64,
     },
     /// Limits must be positive and finite.
     #[error("limit {name} must be positive and finite, got {value}")]
-    BadLimit { name: &'static str, value: f64 },
+    BadLimit {
+        /// The limit's field name, e.g. `max_speed_mps`.
+        name: &'static str,
+        /// The value it had, in the field's unit.
+        value: f64,
+    },
     /// The plan's shape is wrong (path length, jumps, voxels outside the world).
     #[error("drone {drone}: {reason}")]
-    InvalidPlan { drone: String, reason: String },
+    InvalidPlan {
+        /// The drone's id.
+        drone: String,
+        /// What is wrong with its path.
+        reason: String,
+    },
     /// Two drones occupy one voxel at one step.
     #[error("drones {first} and {second} both occupy voxel {voxel} at step {step}")]
     VertexConflict {
+        /// The shared voxel.
         voxel: Voxel,
+        /// The plan step they share it at.
         step: u32,
+        /// One drone's id.
         first: String,
+        /// The other's.
         second: String,
     },
     /// Two drones trade voxels along one edge in one step.
     #[error("drones {first} and {second} swap voxels {from} and {to} at step {step}")]
     SwapConflict {
+        /// Where `first` starts the move.
         from: Voxel,
+        /// Where `second` starts it.
         to: Voxel,
+        /// The plan step the move starts at.
         step: u32,
+        /// One drone's id.
         first: String,
+        /// The other's.
         second: String,
     },
     /// The precedences form a cycle: drones rotate through each other's voxels in one step,
@@ -48,7 +69,10 @@ pub enum ScheduleError {
          distance; the planner must not produce rotations",
         drones.join(", ")
     )]
-    CyclicPlan { drones: Vec<String> },
+    CyclicPlan {
+        /// The ids of the drones on the cycle.
+        drones: Vec<String>,
+    },
     /// A general simple temporal network has no solution.
     #[error("the temporal constraints are inconsistent (negative cycle in the distance graph)")]
     Inconsistent,

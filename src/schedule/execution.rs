@@ -10,8 +10,11 @@ use serde::{Deserialize, Serialize};
 /// One event as the executor sees it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ExecutionEvent {
+    /// Start, marker or arrival (see [`EventKind`]).
     pub kind: EventKind,
+    /// The voxel the event is about (as in the TPG's [`Event`](super::Event)).
     pub voxel: Voxel,
+    /// Where the event happens, ENU metres: what the executor compares telemetry with.
     pub position_m: [f64; 3],
     /// Scheduled time at which the drone reaches the event's position.
     pub reach_s: f64,
@@ -27,14 +30,18 @@ pub struct ExecutionEvent {
 /// One drone's gated event list.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ExecutionDrone {
+    /// The drone's id in the mission.
     pub id: String,
+    /// Its events in path order.
     pub events: Vec<ExecutionEvent>,
 }
 
 /// The TPG and schedule in the form the flight executor consumes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ExecutionPlan {
+    /// When the last drone comes to rest at its goal if nobody is delayed, seconds.
     pub makespan_s: f64,
+    /// Every drone, in plan order (an [`EventId`]'s `drone` indexes this list).
     pub drones: Vec<ExecutionDrone>,
 }
 

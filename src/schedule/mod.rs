@@ -61,7 +61,7 @@
 //!
 //! A polyline with corners cannot be flown at speed with bounded acceleration, so the
 //! drone stops at every corner: motion is a sequence of straight rest-to-rest runs, each
-//! a time-optimal trapezoidal (or triangular) speed [`Profile`](crate::trajectory::Profile).
+//! a time-optimal trapezoidal (or triangular) speed [`Profile`](crate::profile::Profile).
 //! Runs also end where the discrete plan waits. Events inside a run are passed at fixed
 //! offsets from the run's start, so the STN's timepoints are run starts, its lower bounds
 //! come from the profiles (speed *and* acceleration), and a drone that must not pass a

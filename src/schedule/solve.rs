@@ -15,7 +15,7 @@
 use super::ScheduleError;
 use super::stn::Stn;
 use super::tpg::Tpg;
-use crate::trajectory::Profile;
+use crate::profile::Profile;
 use serde::{Deserialize, Serialize};
 
 /// One straight rest-to-rest run of one drone.
@@ -25,12 +25,15 @@ pub struct Segment {
     pub first_event: u32,
     /// Index of the event at which the run ends (at rest again).
     pub last_event: u32,
+    /// Where the run starts, ENU metres.
     pub from_m: [f64; 3],
+    /// Where it ends, ENU metres.
     pub to_m: [f64; 3],
     /// Earliest start (the schedule's choice).
     pub start_s: f64,
     /// Latest start that keeps the makespan.
     pub latest_start_s: f64,
+    /// The speed along the run, from `from_m` to `to_m`.
     pub profile: Profile,
 }
 
@@ -57,11 +60,13 @@ pub struct EventTime {
 /// One drone's timed motion.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DroneSchedule {
+    /// The drone's id in the mission.
     pub id: String,
     /// Start voxel centre, ENU metres.
     pub start_m: [f64; 3],
     /// Goal voxel centre, ENU metres.
     pub goal_m: [f64; 3],
+    /// Its runs in time order; it rests at `start_m` before the first.
     pub segments: Vec<Segment>,
     /// One entry per TPG event of the drone, same order.
     pub events: Vec<EventTime>,
@@ -72,8 +77,11 @@ pub struct DroneSchedule {
 pub struct Schedule {
     /// When the last drone comes to rest at its goal, seconds.
     pub makespan_s: f64,
+    /// Speed limit the runs obey, m/s (the mission's).
     pub max_speed_mps: f64,
+    /// Acceleration limit the runs obey, m/s² (the mission's).
     pub max_accel_mps2: f64,
+    /// Every drone, in plan order.
     pub drones: Vec<DroneSchedule>,
     /// The network that was solved: timepoint 0 is the origin, 1 the end of the mission,
     /// then one per segment in drone order.

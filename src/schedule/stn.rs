@@ -15,8 +15,11 @@ use serde::{Deserialize, Serialize};
 /// `lower_s ≤ t(to) − t(from) ≤ upper_s`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Constraint {
+    /// The earlier timepoint.
     pub from: u32,
+    /// The later timepoint.
     pub to: u32,
+    /// Least time from `from` to `to`, seconds (may be negative).
     pub lower_s: f64,
     /// `f64::INFINITY` for "no upper bound" (serialised as `null`).
     #[serde(with = "infinite_as_null")]
@@ -37,7 +40,9 @@ pub struct Constraint {
 /// ```
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct Stn {
+    /// Number of timepoints, the origin included; they are `0..timepoints`.
     pub timepoints: u32,
+    /// Every bound, in the order added.
     pub constraints: Vec<Constraint>,
 }
 

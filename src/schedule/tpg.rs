@@ -27,6 +27,7 @@ pub enum EventKind {
 /// One event of one drone.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Event {
+    /// Start, marker or arrival.
     pub kind: EventKind,
     /// The voxel the event is about: entered (`Enter`, `Arrive`), released (`Leave`),
     /// or the start voxel (`Start`).
@@ -44,7 +45,9 @@ pub struct Event {
 /// Names one event: the drone's index in the plan and the event's index in its list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct EventId {
+    /// The drone's index in the plan (and in the TPG's `drones`).
     pub drone: u32,
+    /// The event's index in that drone's event list.
     pub index: u32,
 }
 
@@ -52,30 +55,40 @@ pub struct EventId {
 /// `from` (the previous holder's `Leave` marker for `voxel`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CrossEdge {
+    /// The previous holder's `Leave` marker.
     pub from: EventId,
+    /// The next holder's `Enter` marker.
     pub to: EventId,
+    /// The voxel handed over.
     pub voxel: Voxel,
 }
 
 /// One drone's events in path order (type-1 edges join consecutive events).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TpgDrone {
+    /// The drone's id in the mission.
     pub id: String,
+    /// Its events, starting with `Start`.
     pub events: Vec<Event>,
 }
 
 /// The Temporal Plan Graph with safety markers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Tpg {
+    /// The mission's voxel edge length, metres.
     pub voxel_size_m: f64,
+    /// The mission's safety distance, metres; at most `voxel_size_m`.
     pub safety_distance_m: f64,
     /// δ = (voxel size − safety distance) / 2: where markers sit, from each end of a move.
     pub marker_offset_m: f64,
     /// (voxel size + safety distance) / 2: a drone holds a voxel while its path distance
     /// to that visit of the voxel's centre is below this.
     pub hold_radius_m: f64,
+    /// Speed limit the schedule's runs obey, m/s.
     pub max_speed_mps: f64,
+    /// Acceleration limit the schedule's runs obey, m/s².
     pub max_accel_mps2: f64,
+    /// Every drone's events, in plan order.
     pub drones: Vec<TpgDrone>,
     /// Type-2 edges, sorted by target event.
     pub cross_edges: Vec<CrossEdge>,

@@ -2,7 +2,7 @@
 //! trapezoidal speed profiles, so `|v| ≤ max_speed_mps` and `|a| ≤ max_accel_mps2` hold
 //! exactly, the drone stops at every corner, and it passes every TPG event's position
 //! exactly at the scheduled time (which is what makes the precedences, and with them
-//! the safety distance, hold in continuous time; see [`schedule`](crate::schedule)).
+//! the safety distance, hold in continuous time; see [`schedule`]).
 //!
 //! ```
 //! use swarmctl::mission::from_yaml;
@@ -28,9 +28,9 @@
 //! assert_eq!(samples[0][60], [3.0, 2.0, 0.0, 0.0]);
 //! ```
 
-mod profile;
-
-pub use profile::Profile;
+/// The speed profile of a run; it lives in [`crate::profile`], below both the
+/// scheduler and this module, and is re-exported here because every run carries one.
+pub use crate::profile::Profile;
 
 use crate::mission::Mission;
 use crate::plan::DiscretePlan;
@@ -41,9 +41,13 @@ use serde::{Deserialize, Serialize};
 /// `to_m`, at rest there from `start_s + profile.duration_s()`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Run {
+    /// When the drone leaves `from_m`, seconds after the mission start.
     pub start_s: f64,
+    /// Where the run starts, ENU metres.
     pub from_m: [f64; 3],
+    /// Where it ends, ENU metres.
     pub to_m: [f64; 3],
+    /// The speed along the run.
     pub profile: Profile,
 }
 
@@ -75,7 +79,9 @@ impl Run {
 /// One drone's continuous motion.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DroneTrajectory {
+    /// The drone's id in the mission.
     pub id: String,
+    /// Where it rests before its first run, ENU metres.
     pub start_m: [f64; 3],
     /// Runs in time order, not overlapping.
     pub runs: Vec<Run>,
@@ -115,6 +121,7 @@ impl DroneTrajectory {
 pub struct Trajectories {
     /// When the last drone comes to rest at its goal, seconds.
     pub makespan_s: f64,
+    /// Every drone, in plan order.
     pub drones: Vec<DroneTrajectory>,
 }
 

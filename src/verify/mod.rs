@@ -32,16 +32,19 @@ pub struct DroneReport {
     pub max_speed_mps: f64,
     /// Highest second-difference acceleration over three consecutive samples, m/s².
     pub max_accel_mps2: f64,
-    /// Speed over the first and over the last sample interval, m/s (a drone starting or
-    /// ending at rest under the acceleration limit covers at most `a·Δt²/2` there).
+    /// Speed over the first sample interval, m/s (a drone starting at rest under the
+    /// acceleration limit covers at most `a·Δt²/2` there).
     pub start_speed_mps: f64,
+    /// Speed over the last sample interval, m/s (likewise for coming to rest).
     pub end_speed_mps: f64,
 }
 
 /// The closest approach found.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ClosestPair {
+    /// One drone, by index in the samples.
     pub first: usize,
+    /// The other, by index in the samples.
     pub second: usize,
     /// Time of the closest approach of the interpolated motion, seconds.
     pub time_s: f64,
@@ -60,9 +63,13 @@ pub struct SeparationReport {
     /// Guaranteed lower bound on the true continuous separation, assuming the
     /// acceleration limit holds between samples.
     pub min_separation_bound_m: f64,
+    /// The pair behind the interpolated minimum, if any pair came within the radius.
     pub closest: Option<ClosestPair>,
+    /// Per-drone figures, in sample order.
     pub drones: Vec<DroneReport>,
+    /// Highest speed of any drone, m/s.
     pub max_speed_mps: f64,
+    /// Highest acceleration of any drone, m/s².
     pub max_accel_mps2: f64,
     /// Human-readable violations; empty means every limit holds.
     pub violations: Vec<String>,
@@ -78,23 +85,37 @@ impl SeparationReport {
 /// Why the samples could not be checked at all.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CheckError {
+    /// Drones sampled a different number of times.
     #[error(
         "drone {drone} has {found} samples, drone 0 has {expected}: all must share sample times"
     )]
     SampleCount {
+        /// The drone, by index in the samples.
         drone: usize,
+        /// Drone 0's sample count.
         expected: usize,
+        /// This drone's.
         found: usize,
     },
+    /// Drones sampled at different times.
     #[error("drone {drone}, sample {index}: time {found} s differs from drone 0's {expected} s")]
     SampleTime {
+        /// The drone, by index in the samples.
         drone: usize,
+        /// The sample, by index.
         index: usize,
+        /// Drone 0's time there, seconds.
         expected: f64,
+        /// This drone's, seconds.
         found: f64,
     },
+    /// The sample times do not step by one constant period (the margin between
+    /// samples depends on it).
     #[error("sample times must increase at a constant period (sample {index})")]
-    Period { index: usize },
+    Period {
+        /// The first sample off the period.
+        index: usize,
+    },
 }
 
 /// Checks sampled trajectories (all drones sampled at the same times, constant period)

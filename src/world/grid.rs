@@ -41,14 +41,17 @@ impl VoxelGrid {
         }
     }
 
+    /// World size in voxels along x (east), y (north), z (up).
     pub fn dimensions(&self) -> [u32; 3] {
         self.dimensions
     }
 
+    /// Edge length of one voxel, metres.
     pub fn voxel_size_m(&self) -> f64 {
         self.voxel_size_m
     }
 
+    /// The centre of voxel `[0, 0, 0]`, ENU metres: where the grid is placed.
     pub fn origin_m(&self) -> [f64; 3] {
         self.origin_m
     }
@@ -58,14 +61,17 @@ impl VoxelGrid {
         self.blocked.len()
     }
 
+    /// True for a world of no voxels (validated missions never have one).
     pub fn is_empty(&self) -> bool {
         self.blocked.is_empty()
     }
 
+    /// Number of voxels that are not obstacles.
     pub fn free_count(&self) -> usize {
         self.blocked.iter().filter(|&&b| !b).count()
     }
 
+    /// True for a voxel inside the world's bounds, free or not.
     pub fn contains(&self, v: Voxel) -> bool {
         v.x < self.dimensions[0] && v.y < self.dimensions[1] && v.z < self.dimensions[2]
     }
@@ -88,12 +94,14 @@ impl VoxelGrid {
         )
     }
 
+    /// Makes `v` an obstacle; a voxel outside the world is ignored.
     pub fn block(&mut self, v: Voxel) {
         if let Some(c) = self.cell(v) {
             self.blocked[c] = true;
         }
     }
 
+    /// True for an obstacle voxel (false outside the world).
     pub fn is_blocked(&self, v: Voxel) -> bool {
         self.cell(v).is_some_and(|c| self.blocked[c])
     }
@@ -103,6 +111,7 @@ impl VoxelGrid {
         self.cell(v).is_some_and(|c| !self.blocked[c])
     }
 
+    /// [`is_free`](Self::is_free) for a dense index obtained from this grid.
     pub fn is_free_cell(&self, cell: Cell) -> bool {
         !self.blocked[cell]
     }

@@ -14,12 +14,16 @@ use std::fmt;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(from = "[u32; 3]", into = "[u32; 3]")]
 pub struct Voxel {
+    /// Index along x (east), from the world's west face.
     pub x: u32,
+    /// Index along y (north), from the world's south face.
     pub y: u32,
+    /// Index along z (up), from the world's floor.
     pub z: u32,
 }
 
 impl Voxel {
+    /// The voxel `[x, y, z]`; usable in constants.
     pub const fn new(x: u32, y: u32, z: u32) -> Self {
         Self { x, y, z }
     }

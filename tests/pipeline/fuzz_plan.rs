@@ -1,4 +1,4 @@
-//! Hostile and broken plan files (issue 8): `swarmctl::plan::file` never panics,
+//! Hostile and broken plan files (issue 8): `swarmctl::compiled::file` never panics,
 //! never spins, names the file in every error, refuses every plan that does not
 //! fit its mission, and accepts the plan `swarmctl plan` wrote.
 
@@ -7,8 +7,9 @@ use serde_json::{Value, json};
 use std::path::Path;
 use std::sync::LazyLock;
 use std::time::{Duration, Instant};
+use swarmctl::compiled::{self, PlanFileError};
 use swarmctl::mission::{self, Mission};
-use swarmctl::plan::{self, PlanFileError};
+use swarmctl::plan;
 
 const FILE: &str = "fuzzed-plan.json";
 
@@ -42,7 +43,7 @@ static FORMATION: LazyLock<Fixture> = LazyLock::new(|| fixture("missions/formati
 
 fn load(bytes: &[u8], mission: &Mission) -> Result<plan::DiscretePlan, PlanFileError> {
     let start = Instant::now();
-    let result = plan::file::from_bytes(bytes, Path::new(FILE), mission);
+    let result = compiled::file::from_bytes(bytes, Path::new(FILE), mission);
     assert!(
         start.elapsed() < Duration::from_secs(5),
         "loading took {:?}",
@@ -91,10 +92,10 @@ fn a_real_file_is_named_in_errors() {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("broken-plan.json");
     std::fs::write(&path, b"{\"makespan_steps\": 3,").expect("write");
-    let e = plan::file::load(&path, &CORRIDOR.mission).expect_err("truncated");
+    let e = compiled::file::load(&path, &CORRIDOR.mission).expect_err("truncated");
     assert!(e.to_string().contains(&path.display().to_string()), "{e}");
-    let e =
-        plan::file::load(&dir.path().join("missing.json"), &CORRIDOR.mission).expect_err("missing");
+    let e = compiled::file::load(&dir.path().join("missing.json"), &CORRIDOR.mission)
+        .expect_err("missing");
     assert!(e.to_string().contains("missing.json"), "{e}");
 }
 

@@ -197,9 +197,9 @@ async fn fly_async(
 }
 
 /// The plan file, refused before anything starts unless it is a valid plan for
-/// `mission` (see `swarmctl::plan::file`).
+/// `mission` (see `swarmctl::compiled::file`).
 fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<DiscretePlan> {
-    Ok(plan::file::load(path, mission)?)
+    Ok(swarmctl::compiled::file::load(path, mission)?)
 }
 
 fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> {

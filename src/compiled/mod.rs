@@ -2,7 +2,8 @@
 //!
 //! This is what `swarmctl plan -o PLAN.json` writes and `swarmctl fly --plan` reads.
 //! Compiling checks the sampled trajectories with the independent separation checker
-//! and refuses a plan that breaks any limit.
+//! and refuses a plan that breaks any limit. [`file::load`] reads a plan file back for
+//! flight and refuses one that does not fit its mission.
 
 use crate::mission::Mission;
 use crate::plan::{DiscretePlan, PlanStats, Solution};
@@ -11,11 +12,18 @@ use crate::verify::{self, CheckError, SeparationReport};
 use crate::world::Voxel;
 use serde::{Deserialize, Serialize};
 
+pub mod file;
+
+pub use file::PlanFileError;
+
 /// The plan file (see ARCHITECTURE.md for the fixed fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CompiledPlan {
+    /// The mission's name, so a plan flown with another mission can say so.
     pub mission: String,
+    /// Plan steps until the last drone arrives (the discrete plan's makespan).
     pub makespan_steps: u32,
+    /// Sum over drones of the step each arrives for good.
     pub sum_of_costs_steps: u64,
     /// Collision-free lower bound on the makespan, for comparison.
     pub lower_bound_steps: u32,
@@ -23,6 +31,7 @@ pub struct CompiledPlan {
     pub makespan_s: f64,
     /// Period of the `trajectory` samples, seconds.
     pub setpoint_period_s: f64,
+    /// Every drone's plan and samples, in mission order.
     pub drones: Vec<CompiledDrone>,
     /// The Temporal Plan Graph's events per drone, with their cross-drone
     /// predecessors and slack: what a flight executor gates each drone on.
@@ -34,9 +43,13 @@ pub struct CompiledPlan {
 /// One drone of a compiled plan.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CompiledDrone {
+    /// The drone's id in the mission.
     pub id: String,
+    /// The name of its group.
     pub group: String,
+    /// The goal assigned to it.
     pub goal: Voxel,
+    /// Its voxel at every plan step, `makespan_steps + 1` entries.
     pub path: Vec<Voxel>,
     /// `[t_s, x_m, y_m, z_m]` in ENU metres at the setpoint period: exactly what is streamed.
     pub trajectory: Vec<[f64; 4]>,
@@ -45,10 +58,14 @@ pub struct CompiledDrone {
 /// Why a discrete plan could not be compiled.
 #[derive(Debug, thiserror::Error)]
 pub enum CompileError {
+    /// The plan cannot be scheduled (e.g. it holds a rotation, or the safety
+    /// distance exceeds the voxel size).
     #[error(transparent)]
     Schedule(#[from] ScheduleError),
+    /// The samples could not be checked at all.
     #[error("the trajectory checker could not run: {0}")]
     Check(#[from] CheckError),
+    /// The checker measured a limit broken; the report names the drones by id.
     #[error("the trajectories break the mission's limits:\n  {}", .0.violations.join("\n  "))]
     Limits(Box<SeparationReport>),
 }

@@ -1,6 +1,6 @@
 //! Reading a plan file for flight, trusting nothing in it.
 //!
-//! `swarmctl plan -o PLAN.json` writes a [`CompiledPlan`](crate::compiled::CompiledPlan);
+//! `swarmctl plan -o PLAN.json` writes a [`CompiledPlan`](super::CompiledPlan);
 //! `swarmctl fly MISSION --plan PLAN.json` flies it. Between the two the file may
 //! have been edited, truncated, corrupted or written by someone else, so [`load`]
 //! checks it before anything is started:
@@ -23,9 +23,8 @@
 //! and `check` are never flown and are not looked at; a file holding only the
 //! discrete plan is accepted too. Every error names the file.
 
-use super::discrete_plan::{DiscretePlan, DronePlan};
-use super::validator::validate_plan;
 use crate::mission::Mission;
+use crate::plan::{DiscretePlan, DronePlan, validate_plan};
 use crate::world::Voxel;
 use serde::de::DeserializeOwned;
 use serde_json::{Map, Value};
@@ -39,23 +38,33 @@ const MAX_LISTED: usize = 20;
 pub enum PlanFileError {
     // The underlying errors are part of the message and deliberately not
     // `#[source]`s: `{:#}` would print them twice.
+    /// The file could not be read.
     #[error("cannot read plan file {}: {error}", .path.display())]
     Read {
+        /// The plan file.
         path: PathBuf,
+        /// What the operating system said.
         error: std::io::Error,
     },
+    /// The file is not JSON; the error names line and column.
     #[error("plan file {} is not valid JSON: {error}", .path.display())]
     Syntax {
+        /// The plan file.
         path: PathBuf,
+        /// The parser's error, with line and column.
         error: serde_json::Error,
     },
+    /// A field is missing or of the wrong type.
     #[error("plan file {}: {field}: {reason}", .path.display())]
     Field {
+        /// The plan file.
         path: PathBuf,
         /// Where in the file, e.g. `drones[2].path[14]`.
         field: String,
+        /// What is wrong there.
         reason: String,
     },
+    /// The file parses but is not a valid plan for the mission.
     #[error(
         "plan file {} is not a valid plan for mission {mission:?}{}:\n  {}",
         .path.display(),
@@ -63,10 +72,13 @@ pub enum PlanFileError {
         list(.problems)
     )]
     Invalid {
+        /// The plan file.
         path: PathBuf,
+        /// The mission it was checked against.
         mission: String,
         /// The mission the file says it was written for, if it says.
         written_for: Option<String>,
+        /// Everything found wrong, one sentence each.
         problems: Vec<String>,
     },
 }

@@ -6,13 +6,16 @@
 //! Starting and ending each straight run at rest is what makes turns safe for the
 //! acceleration limit: a 90° turn at speed would need an unbounded acceleration on a
 //! polyline, so the drone stops at every corner instead.
+//!
+//! The scheduler times its runs with these profiles and the trajectories replay them,
+//! so the module sits below both (it needs nothing from the rest of the crate).
 
 use serde::{Deserialize, Serialize};
 
 /// A time-optimal rest-to-rest profile over `length_m` metres.
 ///
 /// ```
-/// use swarmctl::trajectory::Profile;
+/// use swarmctl::profile::Profile;
 /// // 4 m at up to 1 m/s and 1 m/s²: 1 s to accelerate, 3 s cruising, 1 s braking.
 /// let p = Profile::new(4.0, 1.0, 1.0);
 /// assert!((p.duration_s() - 5.0).abs() < 1e-12);

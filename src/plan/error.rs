@@ -1,0 +1,35 @@
+//! Why the planner returned no plan.
+
+use std::time::Duration;
+
+/// Why no plan was returned.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// The search ran out of time; the bound says how far it got.
+    #[error(
+        "no plan within the deadline of {deadline:?} ({ct_nodes} conflict-tree nodes expanded); \
+         the optimal makespan is at least {best_lower_bound_steps} steps"
+    )]
+    Deadline {
+        /// The deadline that was given ([`PlanOptions::deadline`](super::PlanOptions::deadline)).
+        deadline: Duration,
+        /// The makespan proven unavoidable when time ran out, steps.
+        best_lower_bound_steps: u32,
+        /// Conflict-tree nodes expanded before giving up.
+        ct_nodes: u64,
+    },
+    /// The named group has a drone or goal outside the free space, or its drones
+    /// cannot each reach a different goal.
+    #[error("group {0:?} cannot be matched to distinct reachable goals")]
+    Unreachable(String),
+    /// No plan exists within the given horizon (steps); guards against runaway
+    /// memory on instances no search could finish.
+    #[error("no plan with a makespan of at most {0} steps")]
+    HorizonExceeded(u32),
+    /// Every branch of the conflict tree was closed: the instance has no plan.
+    #[error("the conflict tree was exhausted without a plan")]
+    NoSolution,
+    /// A planner invariant broke; a bug, reported instead of panicking.
+    #[error("internal planner error: {0}")]
+    Internal(&'static str),
+}
