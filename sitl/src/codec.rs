@@ -180,28 +180,6 @@ mod tests {
     }
 
     #[test]
-    fn unknown_incompatibility_flags_are_dropped() {
-        for flag in [0x02u8, 0x04, 0x80] {
-            let mut frame = crate::forge::Frame::of_message(255, 190, 0, &heartbeat());
-            frame.incompat_flags = flag;
-            let mut bytes = frame.to_bytes();
-            // forge clears 0x02; set it by hand and fix the CRC.
-            bytes[2] = flag;
-            let crc_at = bytes.len() - 2;
-            let crc = mavlink::calculate_crc(&bytes[1..crc_at], crate::forge::crc_extra(0));
-            bytes[crc_at..].copy_from_slice(&crc.to_le_bytes());
-            let decoded = decode(&bytes, None);
-            assert!(
-                decoded.messages.is_empty() && decoded.rejected.is_empty(),
-                "flag {flag:#x}"
-            );
-        }
-        let mut good = encode(header(), &heartbeat(), None);
-        good.extend(encode(header(), &heartbeat(), None));
-        assert_eq!(decode(&good, None).messages.len(), 2);
-    }
-
-    #[test]
     fn replayed_signed_frames_are_rejected() {
         let ours = Signing::new([7; 32]);
         let sender = Signing::new([7; 32]);

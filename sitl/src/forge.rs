@@ -250,7 +250,7 @@ mod tests {
     use super::*;
     use crate::codec;
     use mavlink::dialects::common::{
-        COMMAND_LONG_DATA, HEARTBEAT_DATA, MavCmd, MavModeFlag, MavState, MavType,
+        COMMAND_LONG_DATA, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavModeFlag, MavState, MavType,
         SET_POSITION_TARGET_LOCAL_NED_DATA,
     };
     use mavlink::{MavHeader, MavlinkReader, SigningConfig, SigningData};
@@ -389,5 +389,40 @@ mod tests {
             codec::decode(&flagged.to_bytes(), Some(&codec::Signing::new(key))).rejected,
             vec![codec::Rejection::BadSignature]
         );
+    }
+
+    #[test]
+    fn unknown_incompatibility_flags_are_dropped_by_the_codec() {
+        let heartbeat = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: 7,
+            mavtype: MavType::MAV_TYPE_GCS,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+            base_mode: MavModeFlag::empty(),
+            system_status: MavState::MAV_STATE_ACTIVE,
+            mavlink_version: 3,
+        });
+        let header = MavHeader {
+            system_id: 255,
+            component_id: 190,
+            sequence: 4,
+        };
+        for flag in [0x02u8, 0x04, 0x80] {
+            let mut frame = Frame::of_message(255, 190, 0, &heartbeat);
+            frame.incompat_flags = flag;
+            let mut bytes = frame.to_bytes();
+            // forge clears 0x02; set it by hand and fix the CRC.
+            bytes[2] = flag;
+            let crc_at = bytes.len() - 2;
+            let crc = mavlink::calculate_crc(&bytes[1..crc_at], crc_extra(0));
+            bytes[crc_at..].copy_from_slice(&crc.to_le_bytes());
+            let decoded = codec::decode(&bytes, None);
+            assert!(
+                decoded.messages.is_empty() && decoded.rejected.is_empty(),
+                "flag {flag:#x}"
+            );
+        }
+        let mut good = codec::encode(header, &heartbeat, None);
+        good.extend(codec::encode(header, &heartbeat, None));
+        assert_eq!(codec::decode(&good, None).messages.len(), 2);
     }
 }

@@ -25,7 +25,9 @@ mod world;
 
 pub use error::VizError;
 pub use plan::write_scene;
-pub use recorder::{FlightSample, Recorder, RecorderHandle, RecorderOptions, RecorderStats};
+pub use recorder::{
+    FlightSample, RECORDER_THREAD, Recorder, RecorderHandle, RecorderOptions, RecorderStats,
+};
 pub use scene::{Bounds, Drone, Group, ObstacleBox, PlanEvent, Scene, TimeAxis};
 pub use sink::Sink;
 

@@ -18,15 +18,19 @@ pub const METRICS: &str = "metrics";
 /// Text events (TPG waits, flight events).
 pub const EVENTS: &str = "events";
 
+/// The world's bounding box.
 pub fn world_bounds() -> EntityPath {
     path(&["world", "bounds"])
 }
+/// The obstacle voxels, as boxes.
 pub fn obstacles() -> EntityPath {
     path(&["world", "obstacles"])
 }
+/// Start markers of one group's drones.
 pub fn starts(group: &str) -> EntityPath {
     path(&["world", "plan", "starts", group])
 }
+/// Goal markers of one group's drones.
 pub fn goals(group: &str) -> EntityPath {
     path(&["world", "plan", "goals", group])
 }
@@ -46,12 +50,15 @@ pub fn paths(kind: &str) -> EntityPath {
 pub fn speeds(kind: &str) -> EntityPath {
     path(&["metrics", kind, "speed_mps"])
 }
+/// The swarm's minimum pairwise separation over time, metres.
 pub fn min_separation(kind: &str) -> EntityPath {
     path(&["metrics", kind, "min_separation_m"])
 }
+/// The safety distance as a flat line beside the separation, metres.
 pub fn safety_distance(kind: &str) -> EntityPath {
     path(&["metrics", kind, "safety_distance_m"])
 }
+/// Text events: TPG waits in a plan, the flight log's events in a flight.
 pub fn events(kind: &str) -> EntityPath {
     path(&["events", kind])
 }

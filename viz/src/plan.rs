@@ -5,6 +5,7 @@
 //! one chunk per entity and timeline, and no reliance on the stream's per-thread
 //! current time.
 
+use crate::error::{log_err, ser_err};
 use crate::style::{self, f32x3};
 use crate::{PlanEvent, Scene, TimeAxis, VizError, metrics, paths, swarm};
 use rerun::{RecordingStream, TimeColumn};
@@ -167,24 +168,6 @@ pub(crate) fn log_plan_axis(
         swarm::send_series(rec, &paths::safety_distance("plan"), axis, &line)?;
     }
     log_events(rec, &rows.events, axis)
-}
-
-pub(crate) fn log_err(
-    entity: &rerun::EntityPath,
-) -> impl FnOnce(rerun::RecordingStreamError) -> VizError + '_ {
-    move |source| VizError::Log {
-        entity: entity.to_string(),
-        source,
-    }
-}
-
-pub(crate) fn ser_err(
-    entity: &rerun::EntityPath,
-) -> impl FnOnce(rerun::SerializationError) -> VizError + '_ {
-    move |source| VizError::Serialize {
-        entity: entity.to_string(),
-        source,
-    }
 }
 
 /// Start and goal markers per group, and every drone's voxel path as a line strip.

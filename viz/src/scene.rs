@@ -5,11 +5,15 @@
 pub struct Scene {
     /// Recording name shown in the viewer (the mission name).
     pub name: String,
+    /// The world's box, drawn as a wireframe.
     pub bounds: Bounds,
     /// Edge length of one voxel, metres.
     pub voxel_size_m: f64,
+    /// Blocked space, drawn solid.
     pub obstacles: Vec<ObstacleBox>,
+    /// The mission's groups; [`Drone::group`] indexes this.
     pub groups: Vec<Group>,
+    /// Every drone, planned or not; flight samples name drones by their index here.
     pub drones: Vec<Drone>,
     /// Minimum distance two drones must keep, metres.
     pub safety_distance_m: f64,
@@ -20,20 +24,25 @@ pub struct Scene {
 /// The world's extent: an axis-aligned box, ENU metres.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Bounds {
+    /// The corner with the smallest coordinates, ENU metres.
     pub min_m: [f64; 3],
+    /// The corner with the largest coordinates, ENU metres.
     pub max_m: [f64; 3],
 }
 
 /// One blocked voxel (or a merged run of them) as an axis-aligned box.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ObstacleBox {
+    /// Centre of the box, ENU metres.
     pub center_m: [f64; 3],
+    /// Edge lengths along x, y and z, metres.
     pub size_m: [f64; 3],
 }
 
 /// A group of interchangeable drones, drawn in one colour.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Group {
+    /// Group name; its start and goal markers are logged under it.
     pub name: String,
     /// sRGB colour; [`Group::palette`] picks distinct ones by index.
     pub color_rgb: [u8; 3],
@@ -42,10 +51,13 @@ pub struct Group {
 /// One drone's plan: where it starts, where it goes and how it gets there.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Drone {
+    /// The drone's id: its label in the 3D view and its series name.
     pub id: String,
     /// Index into [`Scene::groups`].
     pub group: usize,
+    /// Start position, ENU metres; where the drone is shown until it reports.
     pub start_m: [f64; 3],
+    /// Goal position, ENU metres.
     pub goal_m: [f64; 3],
     /// The planned voxel path as a polyline of voxel centres (repeats removed).
     pub path_m: Vec<[f64; 3]>,
@@ -56,8 +68,11 @@ pub struct Drone {
 /// A text event in plan time, e.g. "b2 waits 0.8 s at [3, 4, 1] for r1".
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanEvent {
+    /// Plan time of the event, seconds.
     pub t_s: f64,
+    /// Id of the drone it concerns, if any (shown before the text).
     pub drone: Option<String>,
+    /// What happens.
     pub text: String,
 }
 
@@ -70,6 +85,7 @@ pub struct PlanEvent {
 pub struct TimeAxis {
     /// One of [`crate::PLAN_TIMELINE`], [`crate::FLIGHT_TIMELINE`].
     pub timeline: &'static str,
+    /// Where plan time 0 falls on `timeline`, seconds.
     pub offset_s: f64,
 }
 

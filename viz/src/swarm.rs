@@ -5,7 +5,7 @@
 //! sent with `send_columns` so a whole stretch of time is one chunk per entity.
 //! Nothing here uses the stream's per-thread current time.
 
-use crate::plan::{log_err, ser_err};
+use crate::error::{log_err, ser_err};
 use crate::style;
 use crate::{Scene, TimeAxis, VizError, paths};
 use rerun::{RecordingStream, TimeColumn};

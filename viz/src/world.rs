@@ -1,15 +1,13 @@
 //! The static world: axes, bounds and obstacle voxels.
 
+use crate::error::log_err;
 use crate::style::{self, f32x3};
 use crate::{Scene, VizError, paths};
 
 /// Logs what never moves: ENU axes, the world box and the obstacles.
 pub fn log_world(rec: &rerun::RecordingStream, scene: &Scene) -> Result<(), VizError> {
     let log = |entity: rerun::EntityPath, result: rerun::RecordingStreamResult<()>| {
-        result.map_err(|source| VizError::Log {
-            entity: entity.to_string(),
-            source,
-        })
+        result.map_err(log_err(&entity))
     };
     log(
         paths::WORLD.into(),

@@ -2,21 +2,30 @@
 //! update that turns the mode into a setpoint for the dynamics.
 //!
 //! The vehicle is pure state: it never touches a socket. Incoming messages go
-//! through [`Vehicle::handle`] and everything it wants to say lands in
-//! [`Vehicle::outbox`], so the whole state machine is unit-testable without I/O.
+//! through [`Vehicle::handle`] and everything it wants to say lands in its
+//! outbox ([`Vehicle::take_outbox`]), so the whole state machine is
+//! unit-testable without I/O.
+//!
+//! The state and its fixed step live here; the time-driven mode transitions and
+//! failsafes in `transitions`, the setpoint each mode tracks in `guidance`.
+//! Handling incoming messages is in `commands` and `setpoints`, building
+//! telemetry in `telemetry`.
 
 use crate::config::{Flavour, VehicleConfig};
-use crate::dynamics::{Body, Limits, Setpoint, norm};
+use crate::dynamics::{Body, Limits, Setpoint};
 use crate::geo::GeoPoint;
 use crate::mode::FlightMode;
 use crate::params::Params;
-use crate::telemetry::Streams;
+use crate::streams::Streams;
 use crate::{ardupilot, px4};
 use mavlink::dialects::common::{MavMessage, MavSeverity, STATUSTEXT_DATA};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
 use std::time::Duration;
+
+mod guidance;
+mod transitions;
 
 /// Setpoints must have arrived within this window, at least
 /// [`OFFBOARD_MIN_SETPOINTS`] of them, for OFFBOARD to be accepted (> 2 Hz).
@@ -25,16 +34,6 @@ const OFFBOARD_STREAM_WINDOW_S: f64 = 1.0;
 const OFFBOARD_MIN_SETPOINTS: usize = 3;
 /// PX4's COM_OF_LOSS_T default: no setpoint for this long is offboard loss.
 pub const OFFBOARD_LOSS_TIMEOUT_S: f64 = 1.0;
-/// Landed this long in LAND or RTL before the vehicle disarms itself (PX4 COM_DISARM_LAND).
-const AUTO_DISARM_AFTER_LANDING_S: f64 = 2.0;
-/// Descent speed in LAND and at the end of RTL, m/s (PX4 MPC_LAND_SPEED).
-const LAND_SPEED_MPS: f32 = 0.7;
-/// Climb speed limit during takeoff, m/s.
-const TAKEOFF_SPEED_MPS: f32 = 1.5;
-/// Height error at which a takeoff counts as complete, metres.
-const TAKEOFF_DONE_M: f32 = 0.15;
-/// Horizontal distance to home at which RTL starts descending, metres.
-const RTL_OVER_HOME_M: f32 = 0.3;
 /// Height above which the vehicle is airborne, metres.
 const AIRBORNE_HEIGHT_M: f32 = 0.1;
 /// Battery drain while armed, percent per second (a ~30 minute pack).
@@ -344,186 +343,5 @@ impl Vehicle {
             id: 0,
             chunk_seq: 0,
         }));
-    }
-
-    /// Battery faults: LOW is a warning; CRITICAL starts the flavour's failsafe.
-    fn check_battery(&mut self) {
-        if !self.armed {
-            return;
-        }
-        let faults = &self.config.faults;
-        let reached = |after: Option<Duration>| {
-            after.is_some_and(|after| self.armed_time_s >= seconds_or_never(after))
-        };
-        if !self.battery_critical && reached(faults.critical_battery_after) {
-            self.battery_critical_now();
-        } else if !self.battery_low && reached(faults.low_battery_after) {
-            self.battery_low = true;
-            self.battery_pct = self.battery_pct.min(LOW_BATTERY_PCT);
-            let text = match self.flavour {
-                Flavour::Px4 => "Low battery level! Return advised",
-                Flavour::ArduPilot => "Low battery: Battery 1 is low",
-            };
-            self.status_text(MavSeverity::MAV_SEVERITY_WARNING, text);
-        }
-    }
-
-    /// Turns the battery critical and starts the flavour's failsafe.
-    fn battery_critical_now(&mut self) {
-        self.battery_critical = true;
-        self.battery_low = true;
-        self.battery_pct = self.battery_pct.min(CRITICAL_BATTERY_PCT);
-        if self.landed() {
-            self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, "Battery critical");
-            return;
-        }
-        match self.flavour {
-            Flavour::Px4 => {
-                self.status_text(
-                    MavSeverity::MAV_SEVERITY_CRITICAL,
-                    "Critical battery level! Landing",
-                );
-                self.set_mode(FlightMode::Land);
-            }
-            Flavour::ArduPilot => {
-                self.status_text(
-                    MavSeverity::MAV_SEVERITY_CRITICAL,
-                    "Battery 1 is critical! Failsafe: RTL",
-                );
-                self.set_mode(FlightMode::ReturnToLaunch);
-            }
-        }
-    }
-
-    /// Mode transitions driven by time: takeoff completion, offboard loss,
-    /// velocity timeouts, RTL phases.
-    fn update_mode(&mut self) {
-        match self.mode {
-            FlightMode::Takeoff => {
-                if self.takeoff_complete() {
-                    self.takeoff_height_m = None;
-                    self.set_mode(FlightMode::Hold);
-                }
-            }
-            FlightMode::Guided => {
-                if self.takeoff_complete() {
-                    self.takeoff_height_m = None;
-                    self.hold = Setpoint::hold(self.body.position_ned_m);
-                }
-                let stale_velocity = self.external.is_some_and(|e| {
-                    e.setpoint
-                        .velocity_ned_mps
-                        .iter()
-                        .any(|v| v.is_some_and(|v| v != 0.0))
-                        && self.time_s - e.received_s > ardupilot::VELOCITY_TIMEOUT_S
-                });
-                if stale_velocity && !self.velocity_timed_out {
-                    self.velocity_timed_out = true;
-                    self.external = None;
-                    self.hold = Setpoint::hold(self.body.position_ned_m);
-                }
-            }
-            FlightMode::Offboard => {
-                let lost = self
-                    .external
-                    .is_none_or(|e| self.time_s - e.received_s > OFFBOARD_LOSS_TIMEOUT_S);
-                if lost && self.armed {
-                    self.status_text(
-                        MavSeverity::MAV_SEVERITY_WARNING,
-                        "Failsafe: offboard lost, holding",
-                    );
-                    self.set_mode(FlightMode::Hold);
-                    self.offboard_lost_since_s = Some(self.time_s);
-                }
-            }
-            FlightMode::Hold => {
-                if let Some(since) = self.offboard_lost_since_s
-                    && self.time_s - since > seconds_or_never(self.config.offboard_loss_land_after)
-                {
-                    self.status_text(
-                        MavSeverity::MAV_SEVERITY_WARNING,
-                        "Failsafe: offboard lost, landing",
-                    );
-                    self.set_mode(FlightMode::Land);
-                }
-            }
-            FlightMode::ReturnToLaunch => {
-                let home = self.initial_position_ned_m;
-                let p = self.body.position_ned_m;
-                if !self.rtl_descending
-                    && norm([home[0] - p[0], home[1] - p[1], 0.0]) < RTL_OVER_HOME_M
-                {
-                    self.rtl_descending = true;
-                }
-            }
-            FlightMode::Manual | FlightMode::Land => {}
-        }
-    }
-
-    fn takeoff_complete(&self) -> bool {
-        self.takeoff_height_m
-            .is_some_and(|h| self.armed && (self.body.height_m() - h).abs() < TAKEOFF_DONE_M)
-    }
-
-    /// What the position controller tracks in the current mode.
-    fn current_setpoint(&self) -> Setpoint {
-        if let Some(height_m) = self.takeoff_height_m {
-            let mut sp = self.hold;
-            sp.position_ned_m[2] = Some(self.body.ground_down_m - height_m);
-            return sp;
-        }
-        match self.mode {
-            FlightMode::Offboard => self.external.map_or(self.hold, |e| e.setpoint),
-            FlightMode::Guided => match self.external {
-                Some(e) if self.airborne() || self.takeoff_height_m.is_some() => e.setpoint,
-                _ => self.hold,
-            },
-            FlightMode::Land => self.descend_at(self.hold.position_ned_m),
-            FlightMode::ReturnToLaunch => {
-                let home = self.initial_position_ned_m;
-                if self.rtl_descending {
-                    self.descend_at([Some(home[0]), Some(home[1]), None])
-                } else {
-                    Setpoint {
-                        position_ned_m: [Some(home[0]), Some(home[1]), self.hold.position_ned_m[2]],
-                        velocity_ned_mps: [None; 3],
-                        yaw_rad: None,
-                    }
-                }
-            }
-            FlightMode::Manual | FlightMode::Hold | FlightMode::Takeoff => self.hold,
-        }
-    }
-
-    /// Hold north/east, sink at the landing speed.
-    fn descend_at(&self, position: [Option<f32>; 3]) -> Setpoint {
-        Setpoint {
-            position_ned_m: [position[0], position[1], None],
-            velocity_ned_mps: [None, None, Some(LAND_SPEED_MPS)],
-            yaw_rad: None,
-        }
-    }
-
-    /// Limits for the current phase (slower climbs during takeoff).
-    fn mode_limits(&self) -> Limits {
-        let mut limits = self.limits;
-        if self.takeoff_height_m.is_some() {
-            limits.max_speed_mps = limits.max_speed_mps.min(TAKEOFF_SPEED_MPS);
-        }
-        limits
-    }
-
-    /// Disarms a vehicle that has landed in LAND or RTL, as both autopilots do.
-    fn check_auto_disarm(&mut self) {
-        let landing = matches!(self.mode, FlightMode::Land | FlightMode::ReturnToLaunch);
-        if !(self.armed && landing && self.landed()) {
-            self.resting_since_s = None;
-            return;
-        }
-        let since = *self.resting_since_s.get_or_insert(self.time_s);
-        if self.time_s - since >= AUTO_DISARM_AFTER_LANDING_S {
-            self.status_text(MavSeverity::MAV_SEVERITY_INFO, "Landing detected, disarmed");
-            self.set_armed(false);
-        }
     }
 }

@@ -1,0 +1,60 @@
+//! What the position controller tracks in each mode, and with which limits.
+
+use super::Vehicle;
+use crate::dynamics::{Limits, Setpoint};
+use crate::mode::FlightMode;
+
+/// Descent speed in LAND and at the end of RTL, m/s (PX4 MPC_LAND_SPEED).
+const LAND_SPEED_MPS: f32 = 0.7;
+/// Climb speed limit during takeoff, m/s.
+const TAKEOFF_SPEED_MPS: f32 = 1.5;
+
+impl Vehicle {
+    /// What the position controller tracks in the current mode.
+    pub(super) fn current_setpoint(&self) -> Setpoint {
+        if let Some(height_m) = self.takeoff_height_m {
+            let mut sp = self.hold;
+            sp.position_ned_m[2] = Some(self.body.ground_down_m - height_m);
+            return sp;
+        }
+        match self.mode {
+            FlightMode::Offboard => self.external.map_or(self.hold, |e| e.setpoint),
+            FlightMode::Guided => match self.external {
+                Some(e) if self.airborne() || self.takeoff_height_m.is_some() => e.setpoint,
+                _ => self.hold,
+            },
+            FlightMode::Land => self.descend_at(self.hold.position_ned_m),
+            FlightMode::ReturnToLaunch => {
+                let home = self.initial_position_ned_m;
+                if self.rtl_descending {
+                    self.descend_at([Some(home[0]), Some(home[1]), None])
+                } else {
+                    Setpoint {
+                        position_ned_m: [Some(home[0]), Some(home[1]), self.hold.position_ned_m[2]],
+                        velocity_ned_mps: [None; 3],
+                        yaw_rad: None,
+                    }
+                }
+            }
+            FlightMode::Manual | FlightMode::Hold | FlightMode::Takeoff => self.hold,
+        }
+    }
+
+    /// Hold north/east, sink at the landing speed.
+    fn descend_at(&self, position: [Option<f32>; 3]) -> Setpoint {
+        Setpoint {
+            position_ned_m: [position[0], position[1], None],
+            velocity_ned_mps: [None, None, Some(LAND_SPEED_MPS)],
+            yaw_rad: None,
+        }
+    }
+
+    /// Limits for the current phase (slower climbs during takeoff).
+    pub(super) fn mode_limits(&self) -> Limits {
+        let mut limits = self.limits;
+        if self.takeoff_height_m.is_some() {
+            limits.max_speed_mps = limits.max_speed_mps.min(TAKEOFF_SPEED_MPS);
+        }
+        limits
+    }
+}
