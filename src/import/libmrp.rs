@@ -47,7 +47,7 @@ struct Agent {
 /// assert_eq!(file.groups.len(), 1); // a and b share their goals: one group
 /// ```
 pub fn parse_libmrp(text: &str, file: &Path) -> Result<MissionFile, ImportError> {
-    let instance: Instance = serde_yaml::from_str(text)
+    let instance: Instance = yaml_serde::from_str(text)
         .map_err(|e| ImportError::format(file, e.location().map(|l| l.line()), e.to_string()))?;
     let obstacles = instance
         .map

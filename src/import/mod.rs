@@ -18,18 +18,27 @@ pub use movingai3d::{parse_3dmap, parse_3dscen};
 /// Why an instance file could not be imported.
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
+    /// The instance file (or the map it names) could not be read.
     #[error("{}: cannot read: {source}", file.display())]
     Read {
+        /// The file as the user (or the scenario) named it.
         file: PathBuf,
+        /// Why the operating system refused.
         #[source]
         source: std::io::Error,
     },
+    /// The file is not in the format it claims, or asks for something swarmctl
+    /// cannot plan.
     #[error("{}{}: {message}", file.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
     Format {
+        /// The file as the user (or the scenario) named it.
         file: PathBuf,
+        /// 1-based line of the problem, when it is known.
         line: Option<usize>,
+        /// What is wrong.
         message: String,
     },
+    /// The file was read as a mission but the mission is invalid.
     #[error(transparent)]
     Mission(#[from] MissionError),
 }
@@ -47,9 +56,13 @@ impl ImportError {
 /// Which format a file is in, from its name and (for YAML) its top-level keys.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
+    /// A swarmctl mission file (YAML).
     Mission,
+    /// A libMultiRobotPlanning, CBS-TA or ITA-CBS instance (YAML with `agents:`).
     LibMultiRobotPlanning,
+    /// A MovingAI 2D scenario (`.scen`) with the `.map` it names.
     MovingAiScen,
+    /// A MovingAI 3D scenario (`.3dscen`) with the `.3dmap` it names.
     MovingAi3dScen,
 }
 

@@ -8,12 +8,15 @@ use std::path::PathBuf;
 pub struct Problem {
     /// Field path in the file, e.g. `groups[1].drones[3].start`; empty for the whole file.
     pub path: String,
+    /// What is wrong, in words a user can act on, e.g. `[6, 0, 0] is outside the world …`.
     pub message: String,
     /// 1-based line and column where the parser knows them.
     pub line_column: Option<(usize, usize)>,
 }
 
 impl Problem {
+    /// A problem with the field at `path` that no parser located (validation
+    /// problems: the file parsed, so only the field path says where).
     pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
         Self {
             path: path.into(),
@@ -26,15 +29,22 @@ impl Problem {
 /// Why a mission file could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum MissionError {
+    /// The file could not be read at all (missing, unreadable, not UTF-8).
     #[error("{}: cannot read: {source}", file.display())]
     Read {
+        /// The mission file, as the user named it.
         file: PathBuf,
+        /// Why the operating system refused.
         #[source]
         source: std::io::Error,
     },
+    /// The file was read but is not a valid mission: a YAML error (one problem) or
+    /// every validation problem found at once.
     #[error("{}", Invalid { file, problems })]
     Invalid {
+        /// The mission file, as the user named it.
         file: PathBuf,
+        /// Never empty; in the order the checks found them, which roughly follows the file.
         problems: Vec<Problem>,
     },
 }

@@ -55,11 +55,11 @@ pub fn from_yaml(text: &str, file: &Path) -> Result<Mission, MissionError> {
 
 /// Parses the YAML into the file schema without validating it.
 pub fn parse_yaml(text: &str) -> Result<MissionFile, Problem> {
-    serde_yaml::from_str(text).map_err(|e| yaml_problem(&e))
+    yaml_serde::from_str(text).map_err(|e| yaml_problem(&e))
 }
 
-/// Splits serde_yaml's "path: message at line L column C" into its parts.
-fn yaml_problem(error: &serde_yaml::Error) -> Problem {
+/// Splits the YAML parser's "path: message at line L column C" into its parts.
+fn yaml_problem(error: &yaml_serde::Error) -> Problem {
     let line_column = error.location().map(|l| (l.line(), l.column()));
     let message = strip_locations(&error.to_string());
     let (path, message) = match message.split_once(": ") {
@@ -79,7 +79,7 @@ fn looks_like_field_path(s: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '[' | ']'))
 }
 
-/// Removes " at line L column C" wherever serde_yaml put it; the location is kept apart.
+/// Removes " at line L column C" wherever the YAML parser put it; the location is kept apart.
 fn strip_locations(message: &str) -> String {
     let mut out = String::with_capacity(message.len());
     let mut rest = message;

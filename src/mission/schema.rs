@@ -9,28 +9,40 @@ use serde::{Deserialize, Serialize};
 /// A voxel coordinate as written in a file, `[x, y, z]`.
 pub type RawVoxel = [i64; 3];
 
+/// A whole mission file: what [`super::parse_yaml`] reads and [`super::to_yaml`]
+/// writes; [`super::validate`] turns it into a [`super::Mission`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MissionFile {
+    /// A short name; it labels logs, recordings and plan files.
     pub name: String,
+    /// Free text for people reading the file; swarmctl only carries it along.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub description: Option<String>,
+    /// The voxel world the drones fly in.
     pub world: WorldSpec,
+    /// Kinematic and safety limits shared by every drone.
     pub limits: LimitsSpec,
+    /// How the vehicles are driven over MAVLink; optional, with defaults.
     #[serde(default)]
     pub link: LinkSpec,
+    /// The drones, in groups of interchangeable ones that share their goals.
     pub groups: Vec<GroupSpec>,
 }
 
+/// The world as written: a box of equal cubic voxels placed in the ENU frame.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WorldSpec {
-    /// Voxels along x (east), y (north), z (up).
+    /// Voxels along x (east), y (north), z (up); each 1 to 4096 once validated.
     pub dimensions: [i64; 3],
+    /// Edge length of one voxel, metres: the distance of one plan step.
     pub voxel_size_m: f64,
-    /// ENU position of the centre of voxel [0, 0, 0].
+    /// ENU position of the centre of voxel [0, 0, 0], metres; z is the height above
+    /// the take-off ground, so raising it lifts the lowest voxels clear of it.
     #[serde(default)]
     pub origin_m: [f64; 3],
+    /// Voxels no drone may enter; none by default.
     #[serde(default)]
     pub obstacles: Vec<ObstacleSpec>,
 }
@@ -42,7 +54,9 @@ pub struct WorldSpec {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum ObstacleSpec {
+    /// One blocked voxel, written `[x, y, z]`.
     Cell(RawVoxel),
+    /// Every voxel of an inclusive box, written `{ min: [x, y, z], max: [x, y, z] }`.
     Box(BoxSpec),
 }
 
@@ -76,18 +90,25 @@ impl<'de> Deserialize<'de> for ObstacleSpec {
     }
 }
 
+/// An inclusive box of voxels: walls and floors in one line instead of hundreds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoxSpec {
+    /// The corner with the smallest coordinates, itself blocked.
     pub min: RawVoxel,
+    /// The corner with the largest coordinates, itself blocked; nowhere below `min`.
     pub max: RawVoxel,
 }
 
+/// Kinematic and safety limits as written; every one must be positive.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LimitsSpec {
+    /// Top speed of every drone, m/s; the schedule and trajectories keep to it.
     pub max_speed_mps: f64,
+    /// Top acceleration of every drone, m/s²; the trajectories keep to it.
     pub max_accel_mps2: f64,
+    /// Drones never come closer than this, metres (centre to centre).
     pub safety_distance_m: f64,
 }
 
@@ -95,8 +116,10 @@ pub struct LimitsSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Autopilot {
+    /// PX4: position setpoints in offboard mode (the default).
     #[default]
     Px4,
+    /// ArduPilot: position targets in guided mode.
     Ardupilot,
 }
 
@@ -109,14 +132,18 @@ impl std::fmt::Display for Autopilot {
     }
 }
 
+/// How the vehicles are driven over MAVLink; every field has a default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LinkSpec {
+    /// The firmware every vehicle runs; PX4 by default.
     #[serde(default)]
     pub autopilot: Autopilot,
+    /// Setpoints streamed to each vehicle per second, Hz (2.5 to 100; default 20):
+    /// autopilots leave offboard control when setpoints stop coming.
     #[serde(default = "default_setpoint_rate_hz")]
     pub setpoint_rate_hz: f64,
-    /// A vehicle silent for this long counts as lost.
+    /// A vehicle silent for this long counts as lost, seconds (default 3).
     #[serde(default = "default_link_timeout_s")]
     pub link_timeout_s: f64,
     /// MAVLink 2 signing: where the swarm's secret key is kept (never the key).
@@ -157,22 +184,34 @@ fn default_link_timeout_s() -> f64 {
     3.0
 }
 
+/// Interchangeable drones and the goals they share: the planner decides which drone
+/// takes which goal.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GroupSpec {
+    /// Unique within the mission; names the group in messages and recordings.
     pub name: String,
+    /// At least one drone.
     pub drones: Vec<DroneSpec>,
+    /// Exactly one free voxel per drone; any drone of the group may take any of them.
     pub goals: Vec<RawVoxel>,
 }
 
+/// One drone as written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DroneSpec {
+    /// Unique within the mission; letters, digits, '-', '_' and '.', so it can be
+    /// written in command-line flags and file names unquoted.
     pub id: String,
+    /// The free voxel the drone starts in; no two drones share one.
     pub start: RawVoxel,
     /// MAVLink address, e.g. `udpout:127.0.0.1:14541`; none means the bundled simulator.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub endpoint: Option<String>,
+    /// MAVLink system id of the vehicle, 1 to 254 and unique; by default the drone's
+    /// 1-based position among all the mission's drones. Messages from any other
+    /// system id are ignored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub system_id: Option<i64>,
 }

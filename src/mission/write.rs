@@ -1,6 +1,6 @@
 //! Writes mission files in the compact style people write by hand.
 //!
-//! serde_yaml would put every coordinate on a line of its own; a 100-drone mission
+//! A generic YAML serialiser would put every coordinate on a line of its own; a 100-drone mission
 //! would run to a thousand lines nobody can read.
 
 use super::schema::{MissionFile, ObstacleSpec, RawVoxel};

@@ -434,7 +434,7 @@ fn missing_file_names_the_file() {
 }
 
 /// Arbitrary YAML built from the schema's own vocabulary, so the fuzzer reaches deep fields.
-fn yaml_value() -> impl Strategy<Value = serde_yaml::Value> {
+fn yaml_value() -> impl Strategy<Value = yaml_serde::Value> {
     let key = prop::sample::select(vec![
         "name",
         "world",
@@ -460,21 +460,21 @@ fn yaml_value() -> impl Strategy<Value = serde_yaml::Value> {
         "system_id",
     ]);
     let leaf = prop_oneof![
-        any::<i64>().prop_map(|i| serde_yaml::Value::from(i % 20)),
-        any::<i64>().prop_map(serde_yaml::Value::from),
-        any::<f64>().prop_map(serde_yaml::Value::from),
-        "[a-z0-9:. ]{0,12}".prop_map(serde_yaml::Value::from),
-        Just(serde_yaml::Value::Null),
-        any::<bool>().prop_map(serde_yaml::Value::from),
+        any::<i64>().prop_map(|i| yaml_serde::Value::from(i % 20)),
+        any::<i64>().prop_map(yaml_serde::Value::from),
+        any::<f64>().prop_map(yaml_serde::Value::from),
+        "[a-z0-9:. ]{0,12}".prop_map(yaml_serde::Value::from),
+        Just(yaml_serde::Value::Null),
+        any::<bool>().prop_map(yaml_serde::Value::from),
     ];
     leaf.prop_recursive(5, 64, 6, move |inner| {
         prop_oneof![
-            prop::collection::vec(inner.clone(), 0..5).prop_map(serde_yaml::Value::Sequence),
+            prop::collection::vec(inner.clone(), 0..5).prop_map(yaml_serde::Value::Sequence),
             prop::collection::vec((key.clone(), inner), 0..6).prop_map(|pairs| {
-                serde_yaml::Value::Mapping(
+                yaml_serde::Value::Mapping(
                     pairs
                         .into_iter()
-                        .map(|(k, v)| (serde_yaml::Value::from(k), v))
+                        .map(|(k, v)| (yaml_serde::Value::from(k), v))
                         .collect(),
                 )
             }),
@@ -493,7 +493,7 @@ proptest! {
 
     #[test]
     fn arbitrary_yaml_never_panics(value in yaml_value()) {
-        let text = serde_yaml::to_string(&value).unwrap_or_default();
+        let text = yaml_serde::to_string(&value).unwrap_or_default();
         let _ = mission::from_yaml(&text, "fuzz.yaml".as_ref());
     }
 

@@ -1,0 +1,180 @@
+//! Groups, their drones and their goals: names and ids unique across the mission,
+//! every start and goal a free voxel used once, one goal per drone.
+
+use super::Report;
+use super::fields::{check_drone_id, check_endpoint};
+use super::world::Bounds;
+use crate::mission::schema::{DroneSpec, GroupSpec, RawVoxel};
+use crate::mission::types::{Drone, Group};
+use crate::world::{Voxel, VoxelGrid};
+use std::collections::HashMap;
+
+/// MAVLink system ids a vehicle may use (0 is broadcast, 255 is the ground station).
+const SYSTEM_IDS: std::ops::RangeInclusive<i64> = 1..=254;
+
+/// Checks every group, in file order. A drone whose start is unusable is left out
+/// of its group (its problem is reported), as is a goal that is not a free voxel.
+pub(super) fn check_groups(
+    specs: &[GroupSpec],
+    world: &VoxelGrid,
+    bounds: &Bounds,
+    report: &mut Report,
+) -> Vec<Group> {
+    let mut checker = Checker {
+        world,
+        bounds,
+        report,
+        seen: Seen::default(),
+    };
+    specs
+        .iter()
+        .enumerate()
+        .map(|(gi, g)| checker.group(gi, g))
+        .collect()
+}
+
+/// What earlier groups and drones already use, each with the path of its first user
+/// so a clash names both places.
+#[derive(Default)]
+struct Seen<'a> {
+    group_names: HashMap<&'a str, usize>,
+    drone_ids: HashMap<&'a str, String>,
+    system_ids: HashMap<i64, String>,
+    starts: HashMap<Voxel, String>,
+    goals: HashMap<Voxel, String>,
+}
+
+/// The world the groups are placed in, and what is found while checking them.
+struct Checker<'a, 'r> {
+    world: &'a VoxelGrid,
+    bounds: &'a Bounds,
+    report: &'r mut Report,
+    seen: Seen<'a>,
+}
+
+impl<'a> Checker<'a, '_> {
+    fn group(&mut self, gi: usize, g: &'a GroupSpec) -> Group {
+        let gpath = format!("groups[{gi}]");
+        if g.name.trim().is_empty() {
+            self.report
+                .add(format!("{gpath}.name"), "must not be empty");
+        } else if let Some(first) = self.seen.group_names.insert(&g.name, gi) {
+            self.report.add(
+                format!("{gpath}.name"),
+                format!("group name {:?} is already used by groups[{first}]", g.name),
+            );
+        }
+        if g.drones.is_empty() {
+            self.report.add(
+                format!("{gpath}.drones"),
+                format!("group {:?} has no drones", g.name),
+            );
+        }
+        if g.goals.len() != g.drones.len() {
+            self.report.add(
+                format!("{gpath}.goals"),
+                format!(
+                    "group {:?} has {} goal(s) for {} drone(s); give exactly one goal per drone",
+                    g.name,
+                    g.goals.len(),
+                    g.drones.len()
+                ),
+            );
+        }
+        let drones = g
+            .drones
+            .iter()
+            .enumerate()
+            .filter_map(|(di, d)| self.drone(format!("{gpath}.drones[{di}]"), d))
+            .collect();
+        let goals = g
+            .goals
+            .iter()
+            .enumerate()
+            .filter_map(|(ki, &raw)| self.goal(format!("{gpath}.goals[{ki}]"), raw))
+            .collect();
+        Group {
+            name: g.name.clone(),
+            drones,
+            goals,
+        }
+    }
+
+    /// The drone at `dpath`, or `None` when its start is unusable.
+    fn drone(&mut self, dpath: String, d: &'a DroneSpec) -> Option<Drone> {
+        if let Err(why) = check_drone_id(&d.id) {
+            self.report.add(format!("{dpath}.id"), why);
+        } else if let Some(first) = self.seen.drone_ids.insert(&d.id, dpath.clone()) {
+            self.report.add(
+                format!("{dpath}.id"),
+                format!("drone id {:?} is already used by {first}", d.id),
+            );
+        }
+        let start = self.free_voxel(&format!("{dpath}.start"), d.start);
+        if let Some(v) = start
+            && let Some(first) = self.seen.starts.insert(v, dpath.clone())
+        {
+            self.report.add(
+                format!("{dpath}.start"),
+                format!("{v} is already the start of {first}"),
+            );
+        }
+        if let Some(Err(why)) = d.endpoint.as_deref().map(check_endpoint) {
+            self.report.add(format!("{dpath}.endpoint"), why);
+        }
+        let system_id = self.system_id(&dpath, d.system_id);
+        Some(Drone {
+            id: d.id.clone(),
+            start: start?,
+            endpoint: d.endpoint.clone(),
+            system_id,
+        })
+    }
+
+    /// The vehicle's MAVLink system id, when one is given and usable.
+    fn system_id(&mut self, dpath: &str, id: Option<i64>) -> Option<u8> {
+        let id = id?;
+        let Some(vehicle_id) = u8::try_from(id).ok().filter(|_| SYSTEM_IDS.contains(&id)) else {
+            self.report.add(
+                format!("{dpath}.system_id"),
+                format!(
+                    "{id} is not a vehicle system id (1 to 254; 0 is broadcast, 255 the ground station)"
+                ),
+            );
+            return None;
+        };
+        if let Some(first) = self.seen.system_ids.insert(id, dpath.to_string()) {
+            self.report.add(
+                format!("{dpath}.system_id"),
+                format!("system id {id} is already used by {first}"),
+            );
+        }
+        Some(vehicle_id)
+    }
+
+    /// The goal at `kpath`, when it is a free voxel (a goal used twice is reported
+    /// but kept, so the group's goal count stays as written).
+    fn goal(&mut self, kpath: String, raw: RawVoxel) -> Option<Voxel> {
+        let v = self.free_voxel(&kpath, raw)?;
+        if let Some(first) = self.seen.goals.insert(v, kpath.clone()) {
+            self.report
+                .add(kpath, format!("goal {v} is already used by {first}"));
+        }
+        Some(v)
+    }
+
+    /// The voxel at `raw` when it is inside the world and not an obstacle.
+    fn free_voxel(&mut self, path: &str, raw: RawVoxel) -> Option<Voxel> {
+        match self.bounds.voxel(raw) {
+            None => {
+                self.report.add(path, self.bounds.outside(raw));
+                None
+            }
+            Some(v) if self.world.is_blocked(v) => {
+                self.report.add(path, format!("{v} is inside an obstacle"));
+                None
+            }
+            Some(v) => Some(v),
+        }
+    }
+}

@@ -1,0 +1,86 @@
+//! Turns a parsed [`MissionFile`] into a [`Mission`], reporting every problem at once.
+//!
+//! The checks run in file order: the name, the world's extent and scale, the limits,
+//! the link, then the obstacles and the groups with their drones and goals, and last
+//! whether every drone can reach a goal of its group. Only the world's extent stops
+//! the checks early, since nothing placed in the world can be checked without it; and
+//! reachability is only asked of a mission that is otherwise valid.
+
+mod fields;
+mod groups;
+mod reachability;
+mod settings;
+mod world;
+
+use super::error::Problem;
+use super::schema::MissionFile;
+use super::types::{Limits, LinkSettings, Mission};
+
+/// Largest accepted edge of the world, in voxels.
+pub const MAX_DIMENSION: i64 = 4096;
+/// Largest accepted world, in voxels (the planner's time-expanded networks grow with it).
+pub const MAX_VOXELS: i64 = 1 << 24;
+
+/// Checks a parsed mission. Returns every problem found, not just the first.
+pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
+    let mut report = Report::default();
+    settings::check_name(&file.name, &mut report);
+    let dimensions = settings::check_world(&file.world, &mut report);
+    settings::check_limits(&file.limits, &mut report);
+    let signing = settings::check_link(&file.link, &mut report);
+    if file.groups.is_empty() {
+        report.add("groups", "a mission needs at least one group of drones");
+    }
+    let Some(dimensions) = dimensions else {
+        return Err(report.into_problems());
+    };
+    let bounds = world::Bounds::new(dimensions);
+    let world = world::build(&file.world, &bounds, &mut report);
+    let groups = groups::check_groups(&file.groups, &world, &bounds, &mut report);
+    if !report.is_empty() {
+        return Err(report.into_problems());
+    }
+    reachability::check_reachability(&world, &groups, &mut report);
+    if !report.is_empty() {
+        return Err(report.into_problems());
+    }
+    let (limits, link) = (&file.limits, &file.link);
+    Ok(Mission {
+        name: file.name.clone(),
+        description: file.description.clone(),
+        world,
+        limits: Limits {
+            max_speed_mps: limits.max_speed_mps,
+            max_accel_mps2: limits.max_accel_mps2,
+            safety_distance_m: limits.safety_distance_m,
+        },
+        link: LinkSettings {
+            autopilot: link.autopilot,
+            setpoint_rate_hz: link.setpoint_rate_hz,
+            link_timeout_s: link.link_timeout_s,
+            signing,
+        },
+        groups,
+    })
+}
+
+/// The problems found so far, in the order they were found.
+#[derive(Default)]
+struct Report {
+    problems: Vec<Problem>,
+}
+
+impl Report {
+    /// Records that the field at `path` is wrong, and why.
+    fn add(&mut self, path: impl Into<String>, message: impl Into<String>) {
+        self.problems.push(Problem::new(path, message));
+    }
+
+    fn is_empty(&self) -> bool {
+        self.problems.is_empty()
+    }
+
+    fn into_problems(self) -> Vec<Problem> {
+        self.problems
+    }
+}
