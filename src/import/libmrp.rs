@@ -4,7 +4,8 @@
 //! goal}]`, or `potentialGoals: [[x, y], …]` instead of `goal`: agents that share the
 //! same set of potential goals form one group.
 
-use super::{ImportError, mission_file, world_spec};
+use super::build::{mission_file, world_spec};
+use super::error::ImportError;
 use crate::mission::MissionFile;
 use crate::mission::schema::{DroneSpec, GroupSpec, ObstacleSpec};
 use serde::Deserialize;

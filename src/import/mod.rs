@@ -3,55 +3,21 @@
 //! 2D instances become worlds one voxel high; every imported drone flies with the
 //! default limits in [`default_limits`]. Each format sits in its own file.
 
+mod build;
+mod error;
 mod libmrp;
 mod movingai;
 mod movingai3d;
 
-use crate::mission::schema::{LimitsSpec, LinkSpec, WorldSpec};
-use crate::mission::{Mission, MissionError, MissionFile};
-use std::path::{Path, PathBuf};
+use crate::mission::{Mission, MissionError};
+use std::path::Path;
+
+pub use build::default_limits;
+pub use error::ImportError;
 
 pub use libmrp::parse_libmrp;
 pub use movingai::{parse_map, parse_scen};
 pub use movingai3d::{parse_3dmap, parse_3dscen};
-
-/// Why an instance file could not be imported.
-#[derive(Debug, thiserror::Error)]
-pub enum ImportError {
-    /// The instance file (or the map it names) could not be read.
-    #[error("{}: cannot read: {source}", file.display())]
-    Read {
-        /// The file as the user (or the scenario) named it.
-        file: PathBuf,
-        /// Why the operating system refused.
-        #[source]
-        source: std::io::Error,
-    },
-    /// The file is not in the format it claims, or asks for something swarmctl
-    /// cannot plan.
-    #[error("{}{}: {message}", file.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
-    Format {
-        /// The file as the user (or the scenario) named it.
-        file: PathBuf,
-        /// 1-based line of the problem, when it is known.
-        line: Option<usize>,
-        /// What is wrong.
-        message: String,
-    },
-    /// The file was read as a mission but the mission is invalid.
-    #[error(transparent)]
-    Mission(#[from] MissionError),
-}
-
-impl ImportError {
-    pub(crate) fn format(file: &Path, line: Option<usize>, message: impl Into<String>) -> Self {
-        ImportError::Format {
-            file: file.to_path_buf(),
-            line,
-            message: message.into(),
-        }
-    }
-}
 
 /// Which format a file is in, from its name and (for YAML) its top-level keys.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,44 +61,4 @@ pub fn load_any(path: &Path, agents: Option<usize>) -> Result<Mission, ImportErr
             problems,
         })
     })
-}
-
-/// Limits given to imported instances, which carry none of their own: 1 m voxels,
-/// 1 m/s, 2 m/s², 0.3 m safety distance.
-pub fn default_limits() -> LimitsSpec {
-    LimitsSpec {
-        max_speed_mps: 1.0,
-        max_accel_mps2: 2.0,
-        safety_distance_m: 0.3,
-    }
-}
-
-/// A mission file around an imported world and groups.
-pub(crate) fn mission_file(
-    name: String,
-    source: &Path,
-    world: WorldSpec,
-    groups: Vec<crate::mission::schema::GroupSpec>,
-) -> MissionFile {
-    MissionFile {
-        name,
-        description: Some(format!("Imported from {}", source.display())),
-        world,
-        limits: default_limits(),
-        link: LinkSpec::default(),
-        groups,
-    }
-}
-
-/// A 1 m voxel world lifted 1 m off the ground.
-pub(crate) fn world_spec(
-    dimensions: [i64; 3],
-    obstacles: Vec<crate::mission::schema::ObstacleSpec>,
-) -> WorldSpec {
-    WorldSpec {
-        dimensions,
-        voxel_size_m: 1.0,
-        origin_m: [0.0, 0.0, 1.0],
-        obstacles,
-    }
 }

@@ -4,7 +4,8 @@
 //! are free and `@`, `O`, `T`, `S`, `W` are blocked; x is the column and y the row.
 //! Coordinates are kept as in the files, so results can be compared with other solvers.
 
-use super::{ImportError, mission_file, world_spec};
+use super::build::{mission_file, world_spec};
+use super::error::ImportError;
 use crate::mission::MissionFile;
 use crate::mission::schema::{DroneSpec, GroupSpec, ObstacleSpec};
 use std::path::Path;

@@ -5,7 +5,8 @@
 //! line. The benchmark's own paths are 26-connected; swarmctl flies 6-connected
 //! moves, so its optimal lengths are not comparable with the file's.
 
-use super::{ImportError, mission_file, world_spec};
+use super::build::{mission_file, world_spec};
+use super::error::ImportError;
 use crate::mission::MissionFile;
 use crate::mission::schema::{DroneSpec, GroupSpec, ObstacleSpec};
 use std::path::Path;
