@@ -42,7 +42,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         seed: args.seed,
     };
     let spinner = ProgressBar::new_spinner();
-    spinner.set_style(ProgressStyle::with_template("{spinner} {msg}").expect("static template"));
+    // The template is fixed; were it ever refused, the default spinner does as well.
+    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg}") {
+        spinner.set_style(style);
+    }
     spinner.set_message(format!("planning {} drones", mission.drone_count()));
     spinner.enable_steady_tick(Duration::from_millis(120));
     let result = plan::solve_with_progress(&mission, &options, &mut |p| {
