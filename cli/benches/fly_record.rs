@@ -1,4 +1,4 @@
-//! Benchmark (issue 7): what live Rerun recording costs a real flight.
+//! Benchmark: what live Rerun recording costs a real flight.
 //!
 //! Goal: recording a 100-drone flight at 20 Hz costs under 5% of the flight's CPU.
 //! The real `fly::fly` flies `missions/paper-scale.yaml` (or `FLY_RECORD_MISSION`)
@@ -14,12 +14,12 @@
 //! Two measures of the recording's share, each a median over the pairs:
 //!
 //! - paired: (process CPU with − process CPU without) / process CPU without, from
-//!   getrusage(RUSAGE_SELF) around the flight (and, with recording, around
+//!   getrusage(RUSAGE_SELF) (`swarmctl_harness::resources`) around the flight (and, with recording, around
 //!   starting and finishing the recorder too). Includes the observer calls on the
 //!   executor's threads, but two flights differ by a few percent on their own.
 //! - attributed: within the recorded flight, the CPU of the threads that only
 //!   record (the recorder thread, rerun's batcher and file writer, read from
-//!   /proc/self/task/*/schedstat every 200 ms) plus the main thread's CPU while
+//!   /proc/self/task/* every 200 ms) plus the main thread's CPU while
 //!   starting and finishing the recorder, over the rest of the process's CPU.
 //!
 //! Run: `cargo bench --bench fly_record` (Linux only). `FLY_RECORD_FLUSH_S`,
@@ -37,6 +37,7 @@ use swarmctl::fly::{self, FlyOptions, VehicleLink};
 use swarmctl::mission::Mission;
 use swarmctl::plan::{self, DiscretePlan};
 use swarmctl_cli::record::{LiveFlight, RecorderOptions, Sink};
+use swarmctl_harness::{median, resources};
 
 const ROLE_ENV: &str = "FLY_RECORD_ROLE";
 const MISSION_ENV: &str = "FLY_RECORD_MISSION";
@@ -214,31 +215,25 @@ impl Run {
     }
 }
 
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    match values.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => values[n / 2],
-        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
-    }
+/// The median of what `pairs` give.
+fn median_of(values: impl Iterator<Item = f64>) -> f64 {
+    median(&values.collect::<Vec<_>>())
 }
 
 fn report(pairs: &[(Run, Run)]) {
-    let flight = median(pairs.iter().map(|(w, _)| w.process_cpu_s).collect());
-    let with = median(pairs.iter().map(|(_, r)| r.process_cpu_s).collect());
-    let paired = median(
+    let flight = median_of(pairs.iter().map(|(w, _)| w.process_cpu_s));
+    let with = median_of(pairs.iter().map(|(_, r)| r.process_cpu_s));
+    let paired = median_of(
         pairs
             .iter()
-            .map(|(w, r)| (r.process_cpu_s - w.process_cpu_s) / w.process_cpu_s)
-            .collect(),
+            .map(|(w, r)| (r.process_cpu_s - w.process_cpu_s) / w.process_cpu_s),
     );
-    let attributed = median(
+    let attributed = median_of(
         pairs
             .iter()
-            .map(|(_, r)| r.recording_cpu_s / (r.process_cpu_s - r.recording_cpu_s))
-            .collect(),
+            .map(|(_, r)| r.recording_cpu_s / (r.process_cpu_s - r.recording_cpu_s)),
     );
-    let recording = median(pairs.iter().map(|(_, r)| r.recording_cpu_s).collect());
+    let recording = median_of(pairs.iter().map(|(_, r)| r.recording_cpu_s));
     println!(
         "  flight CPU (median) without recording {flight:.3} s, with {with:.3} s; recording threads {recording:.3} s"
     );
@@ -295,7 +290,7 @@ fn fly_against(
     let mut options = FlyOptions::new(links);
     let runtime = tokio::runtime::Runtime::new()?;
     let threads = ThreadSampler::start();
-    let (cpu0_s, main0_s, wall0) = (cpu_s(libc::RUSAGE_SELF), main_cpu_s(), Instant::now());
+    let (cpu0_s, main0_s, wall0) = (process_cpu_s()?, main_cpu_s()?, Instant::now());
     let mut breakdown = Vec::new();
     let live = match record {
         Some((rrd, recorder_options)) => {
@@ -306,7 +301,7 @@ fn fly_against(
                 recorder_options.clone(),
             )?;
             options.observers = vec![live.observer()];
-            breakdown.push(("start (main thread)".to_string(), main_cpu_s() - main0_s));
+            breakdown.push(("start (main thread)".to_string(), main_cpu_s()? - main0_s));
             Some(live)
         }
         None => None,
@@ -316,17 +311,14 @@ fn fly_against(
     options.observers.clear();
     let stats = match live {
         Some(live) => {
-            let before = main_cpu_s();
+            let before = main_cpu_s()?;
             let stats = live.finish(&log)?;
-            breakdown.push(("finish (main thread)".to_string(), main_cpu_s() - before));
+            breakdown.push(("finish (main thread)".to_string(), main_cpu_s()? - before));
             Some(stats)
         }
         None => None,
     };
-    let (process_cpu_s, wall_s) = (
-        cpu_s(libc::RUSAGE_SELF) - cpu0_s,
-        wall0.elapsed().as_secs_f64(),
-    );
+    let (process_cpu_s, wall_s) = (process_cpu_s()? - cpu0_s, wall0.elapsed().as_secs_f64());
     let (by_name, sampler_cpu_s) = threads.stop();
     let process_cpu_s = process_cpu_s - sampler_cpu_s;
     drop(runtime);
@@ -373,18 +365,14 @@ fn read_links(from_child: &mut impl BufRead) -> anyhow::Result<Vec<VehicleLink>>
     }
 }
 
-/// User + system CPU of the process (`RUSAGE_SELF`) or the calling thread, seconds.
-fn cpu_s(who: libc::c_int) -> f64 {
-    // SAFETY: getrusage writes only into the zeroed struct we pass.
-    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: valid `who` and pointer.
-    unsafe { libc::getrusage(who, &mut u) };
-    let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    s(u.ru_utime) + s(u.ru_stime)
+/// User + system CPU of the whole process, seconds.
+fn process_cpu_s() -> anyhow::Result<f64> {
+    resources::process_cpu_s().context("cannot read the process's CPU time (Linux only)")
 }
 
-fn main_cpu_s() -> f64 {
-    cpu_s(libc::RUSAGE_THREAD)
+/// User + system CPU of the calling thread, seconds.
+fn main_cpu_s() -> anyhow::Result<f64> {
+    resources::this_thread_cpu_s().context("cannot read the thread's CPU time (Linux only)")
 }
 
 /// Reads every thread's CPU time every 200 ms and keeps the latest per thread, so
@@ -415,7 +403,8 @@ impl ThreadSampler {
                 std::thread::sleep(Duration::from_millis(200));
             }
             latest.extend(read_threads());
-            (latest, main_cpu_s())
+            // The sampler's own CPU (0 if unreadable, which `main_cpu_s` ruled out).
+            (latest, resources::this_thread_cpu_s().unwrap_or(0.0))
         });
         Self {
             stop,
@@ -437,32 +426,13 @@ impl ThreadSampler {
     }
 }
 
-/// (name, CPU seconds) of every thread of this process, from schedstat (ns).
+/// (name, CPU seconds) of every live thread of this process, by thread id.
 fn read_threads() -> ThreadCpu {
-    let mut out = HashMap::new();
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
-        return out;
-    };
-    for task in tasks.flatten() {
-        let Some(tid) = task.file_name().to_str().and_then(|s| s.parse().ok()) else {
-            continue;
-        };
-        let dir = task.path();
-        let (Ok(name), Ok(stat)) = (
-            std::fs::read_to_string(dir.join("comm")),
-            std::fs::read_to_string(dir.join("schedstat")),
-        ) else {
-            continue;
-        };
-        if let Some(ns) = stat
-            .split_whitespace()
-            .next()
-            .and_then(|s| s.parse::<f64>().ok())
-        {
-            out.insert(tid, (name.trim().to_string(), ns * 1e-9));
-        }
-    }
-    out
+    resources::threads_cpu()
+        .unwrap_or_default()
+        .into_iter()
+        .map(|t| (t.tid, (t.name, t.cpu_s)))
+        .collect()
 }
 
 /// Child role: the bundled SITL for the mission's drones; prints their addresses,

@@ -1,6 +1,6 @@
 //! Benchmark: one process streams setpoints to 100 drones at 20 Hz.
 //!
-//! Goal (issue 6): p99 inter-setpoint interval < 60 ms on the RECEIVING side and
+//! Goal: p99 inter-setpoint interval < 60 ms on the RECEIVING side and
 //! < 25 % of one core in the sending process. The sender is the real `fly::fly`
 //! flying `missions/paper-scale.yaml` (or `FLY_STREAM_MISSION`) with PX4-flavoured
 //! vehicles, which stream from the ground hold before OFFBOARD until landing.
@@ -8,8 +8,9 @@
 //! same binary, re-executed), so neither their CPU nor their scheduling counts
 //! against the sender, and every interval is measured where a vehicle would see it.
 //!
-//! Run: `cargo bench --bench fly_stream`. CPU comes from /proc/self/stat
-//! (utime + stime, USER_HZ = 100 on Linux), so this benchmark is Linux-only.
+//! Run: `cargo bench --bench fly_stream`. CPU comes from
+//! `swarmctl_harness::resources` (getrusage: user + system time), so this
+//! benchmark is Linux-only.
 
 #[path = "fly_stream/proxy.rs"]
 mod proxy;
@@ -23,6 +24,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use swarmctl::fly::{self, FlyOptions, VehicleLink};
 use swarmctl::plan::{self, DiscretePlan};
+use swarmctl_harness::resources;
 
 const ROLE_ENV: &str = "FLY_STREAM_ROLE";
 const MISSION_ENV: &str = "FLY_STREAM_MISSION";
@@ -30,8 +32,6 @@ const PLAN_ENV: &str = "FLY_STREAM_PLAN";
 const DEFAULT_MISSION: &str = "missions/paper-scale.yaml";
 const GOAL_P99_MS: f64 = 60.0;
 const GOAL_CPU_SHARE: f64 = 0.25;
-/// Linux reports process times in USER_HZ ticks, fixed at 100 by the kernel ABI.
-const USER_HZ: f64 = 100.0;
 /// Sliding window for the busiest stretch of the flight.
 const PEAK_WINDOW_S: usize = 5;
 
@@ -87,7 +87,7 @@ fn sender(
             system_id: i as u8 + 1,
         })
         .collect();
-    let mut options = FlyOptions::new(links);
+    let options = FlyOptions::new(links);
 
     // Same runtime as `swarmctl fly` (multi-threaded, one worker per core).
     let runtime = tokio::runtime::Runtime::new()?;
@@ -179,7 +179,7 @@ fn spawn_cpu_sampler(
     std::thread::spawn(move || {
         let start = Instant::now();
         while !stop.load(Ordering::Relaxed) {
-            if let Ok(cpu_s) = process_cpu_s() {
+            if let Some(cpu_s) = resources::process_cpu_s() {
                 samples
                     .lock()
                     .unwrap_or_else(|e| e.into_inner())
@@ -192,20 +192,7 @@ fn spawn_cpu_sampler(
 
 /// User + system CPU time of this whole process (all threads), seconds.
 fn process_cpu_s() -> anyhow::Result<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat")?;
-    // Fields after the parenthesised command name; utime and stime are the 12th and 13th.
-    let rest = stat
-        .rsplit_once(')')
-        .context("malformed /proc/self/stat")?
-        .1;
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |i: usize| -> anyhow::Result<f64> {
-        Ok(fields
-            .get(i)
-            .context("short /proc/self/stat")?
-            .parse::<f64>()?)
-    };
-    Ok((ticks(11)? + ticks(12)?) / USER_HZ)
+    resources::process_cpu_s().context("cannot read the process's CPU time (Linux only)")
 }
 
 fn read_ports(from_child: &mut impl BufRead) -> anyhow::Result<Vec<u16>> {

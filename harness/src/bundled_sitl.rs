@@ -14,12 +14,22 @@ use swarmctl_sitl::{Faults, Flavour, GeoPoint, LinkDrop, Swarm, VehicleConfig};
 /// A low battery turns critical (and the autopilot lands) this long after the warning.
 const CRITICAL_AFTER_LOW: Duration = Duration::from_secs(45);
 
+/// Why the bundled SITL could not be set up for a mission.
 #[derive(Debug, thiserror::Error)]
 pub enum BundledSitlError {
+    /// A `--fault` flag targets a drone the plan does not fly.
     #[error("--fault names drone {drone:?}, which is not in the mission (drones: {known})")]
-    UnknownDrone { drone: String, known: String },
+    UnknownDrone {
+        /// The drone id the fault names.
+        drone: String,
+        /// The plan's drone ids, comma-separated, to show what was meant.
+        known: String,
+    },
+    /// More drones than MAVLink system ids the SITL hands out (1–254); the field
+    /// is how many the plan has.
     #[error("the bundled SITL gives system ids 1–254, so at most 254 drones ({0} given)")]
     TooManyDrones(usize),
+    /// The vehicles could not be spawned (a socket could not be bound).
     #[error("cannot start the bundled SITL: {0}")]
     Spawn(#[from] swarmctl_sitl::SitlError),
 }
@@ -66,6 +76,8 @@ pub fn vehicle_configs(
     Ok(configs)
 }
 
+/// The SITL faults of vehicle `drone`: link-wide faults apply to everyone,
+/// drone faults only to the drone they name.
 fn faults_for(drone: &str, faults: &[FaultSpec]) -> Faults {
     let mut out = Faults::default();
     for f in faults {

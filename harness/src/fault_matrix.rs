@@ -1,5 +1,6 @@
-//! The fault matrix: one mission flown on the bundled SITL under each fault the
-//! issue tracker asks about, each with the behaviour swarmctl promises, checked
+//! The fault matrix: one mission flown on the bundled SITL under each fault a
+//! real swarm meets (lossy, slow and reordering links, a link cut or lost, a
+//! drone refusing to arm, slow, or low on battery), each with the behaviour swarmctl promises, checked
 //! against what happened.
 //!
 //! Separation is measured twice: from telemetry during plan execution (what the
@@ -7,6 +8,8 @@
 //! takeoff and landing included, for every airborne pair (what really happened,
 //! including drones the executor could no longer hear).
 
+use crate::HarnessError;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError, FlyOptions};
 use swarmctl::mission::Mission;
@@ -21,9 +24,15 @@ pub enum Expect {
     /// The flight is refused before anybody leaves the ground.
     AbortsOnGround,
     /// `drone` is reported lost; everybody else lands or is handed over.
-    Lost { drone: &'static str },
+    Lost {
+        /// Id of the drone whose link is lost.
+        drone: &'static str,
+    },
     /// `drone` leaves the plan early and lands; everybody else finishes and lands.
-    Retires { drone: &'static str },
+    Retires {
+        /// Id of the drone that retires.
+        drone: &'static str,
+    },
 }
 
 impl Expect {
@@ -44,9 +53,13 @@ impl Expect {
 /// One row of the matrix.
 #[derive(Debug, Clone)]
 pub struct Scenario {
+    /// What the row is called in the table (and how `--only` finds it).
     pub name: &'static str,
+    /// The faults as `swarmctl fly --fault` flags, e.g. `loss=10%`.
     pub faults: Vec<&'static str>,
+    /// Which autopilot the SITL vehicles imitate.
     pub flavour: Flavour,
+    /// The behaviour swarmctl promises under these faults.
     pub expect: Expect,
 }
 
@@ -126,19 +139,27 @@ pub fn scenarios(reduced: bool) -> Vec<Scenario> {
 /// What one scenario did.
 #[derive(Debug, Clone)]
 pub struct ScenarioReport {
+    /// The scenario's name (its row in the table).
     pub name: String,
+    /// The `--fault` flags flown, space-separated, or a dash for none.
     pub faults: String,
+    /// The promised behaviour, in words.
     pub expected: String,
+    /// What happened, in words.
     pub observed: String,
     /// Telemetry, during plan execution (∞ if nobody flew).
     pub min_separation_telemetry_m: f64,
     /// Simulator truth, whole flight, airborne pairs (∞ if nobody flew).
     pub min_separation_truth_m: f64,
+    /// The mission's safety distance, metres: what both separations must keep.
     pub safety_distance_m: f64,
+    /// Wall time of the run, seconds.
     pub duration_s: f64,
+    /// Whether the scenario showed its promised behaviour and kept the distance.
     pub passed: bool,
     /// Why it failed, if it did.
     pub failures: Vec<String>,
+    /// The flight log, if there was a flight that ran to its end.
     pub log: Option<FlightLog>,
 }
 
@@ -148,7 +169,7 @@ pub async fn run_scenario(
     plan: &DiscretePlan,
     scenario: &Scenario,
     limit: Duration,
-) -> anyhow::Result<ScenarioReport> {
+) -> Result<ScenarioReport, HarnessError> {
     let faults: Vec<FaultSpec> = scenario
         .faults
         .iter()
@@ -156,13 +177,13 @@ pub async fn run_scenario(
         .collect::<Result<_, _>>()?;
     let configs = crate::bundled_sitl::vehicle_configs(mission, plan, scenario.flavour, &faults)?;
     let (swarm, links) = crate::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
-    let mut options = FlyOptions::new(links);
+    let options = FlyOptions::new(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let started = std::time::Instant::now();
-    let done = std::sync::atomic::AtomicBool::new(false);
+    let done = AtomicBool::new(false);
     let flight = async {
         let result = tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort_rx)).await;
-        done.store(true, std::sync::atomic::Ordering::Relaxed);
+        done.store(true, Ordering::Relaxed);
         result
     };
     let (result, (truth_m, ever_airborne)) = tokio::join!(flight, watch_truth(&swarm, &done));
@@ -173,18 +194,93 @@ pub async fn run_scenario(
         .map(|s| s.system_id)
         .collect();
     swarm.shutdown().await;
-
-    let safety = mission.limits.safety_distance_m;
-    let mut failures = Vec::new();
-    let (observed, log) = match result {
-        Err(_) => {
-            failures.push(format!("did not finish within {limit:?}"));
-            ("timed out".to_string(), None)
-        }
-        Ok(Err(e)) => (describe_error(&e), None),
-        Ok(Ok(log)) => (describe_log(&log), Some(log)),
+    let flown = Flown {
+        result,
+        truth_m,
+        ever_airborne,
+        still_armed,
+        duration_s,
     };
-    match (&scenario.expect, &log) {
+    Ok(flown.judge(mission, scenario, limit))
+}
+
+/// A scenario's flight and what the simulator saw of it.
+struct Flown {
+    /// The flight's result, or `Err` if it hit the limit.
+    result: Result<Result<FlightLog, FlyError>, tokio::time::error::Elapsed>,
+    /// Smallest true distance between two airborne vehicles, metres.
+    truth_m: f64,
+    /// Whether any vehicle left the ground.
+    ever_airborne: bool,
+    /// System ids armed after the flight.
+    still_armed: Vec<u8>,
+    /// Wall time of the flight, seconds.
+    duration_s: f64,
+}
+
+impl Flown {
+    /// The report: what happened against what `scenario` promises.
+    fn judge(self, mission: &Mission, scenario: &Scenario, limit: Duration) -> ScenarioReport {
+        let safety = mission.limits.safety_distance_m;
+        let mut failures = Vec::new();
+        let (observed, log) = match self.result {
+            Err(_) => {
+                failures.push(format!("did not finish within {limit:?}"));
+                ("timed out".to_string(), None)
+            }
+            Ok(Err(e)) => (describe_error(&e), None),
+            Ok(Ok(log)) => (describe_log(&log), Some(log)),
+        };
+        expectation_failures(
+            &scenario.expect,
+            log.as_ref(),
+            self.ever_airborne,
+            &mut failures,
+        );
+        let wrongly_armed = wrongly_armed(self.still_armed, log.as_ref());
+        if !wrongly_armed.is_empty() {
+            failures.push(format!("systems {wrongly_armed:?} still armed"));
+        }
+        let telemetry_m = log
+            .as_ref()
+            .map_or(f64::INFINITY, |l| l.summary.min_separation_m);
+        if telemetry_m < safety {
+            failures.push(format!(
+                "telemetry separation {telemetry_m:.3} m < {safety} m"
+            ));
+        }
+        let truth_m = self.truth_m;
+        if truth_m < safety {
+            failures.push(format!("true separation {truth_m:.3} m < {safety} m"));
+        }
+        ScenarioReport {
+            name: scenario.name.to_string(),
+            faults: if scenario.faults.is_empty() {
+                "—".into()
+            } else {
+                scenario.faults.join(" ")
+            },
+            expected: scenario.expect.describe(),
+            observed,
+            min_separation_telemetry_m: telemetry_m,
+            min_separation_truth_m: truth_m,
+            safety_distance_m: safety,
+            duration_s: self.duration_s,
+            passed: failures.is_empty(),
+            failures,
+            log,
+        }
+    }
+}
+
+/// Where the flight (its log, if it ran to its end) broke the promise `expect`.
+fn expectation_failures(
+    expect: &Expect,
+    log: Option<&FlightLog>,
+    ever_airborne: bool,
+    failures: &mut Vec<String>,
+) {
+    match (expect, log) {
         (Expect::AbortsOnGround, None) if !ever_airborne => {}
         (Expect::AbortsOnGround, _) => failures.push("expected a refusal on the ground".into()),
         (_, None) => failures.push("expected a flight".into()),
@@ -210,59 +306,32 @@ pub async fn run_scenario(
             }
         }
     }
-    let lost_ids: Vec<u8> = log.as_ref().map_or(Vec::new(), |l| {
+}
+
+/// The armed systems that should not be: lost and handed-over drones hover on by
+/// design; everybody else must be disarmed.
+fn wrongly_armed(still_armed: Vec<u8>, log: Option<&FlightLog>) -> Vec<u8> {
+    let lost_ids: Vec<u8> = log.map_or(Vec::new(), |l| {
         l.drones
             .iter()
             .filter(|d| l.summary.lost.contains(&d.id) || l.summary.handed_over.contains(&d.id))
             .map(|d| d.system_id)
             .collect()
     });
-    // Lost and handed-over drones hover on by design; everybody else must be disarmed.
-    let wrongly_armed: Vec<u8> = still_armed
+    still_armed
         .into_iter()
         .filter(|id| !lost_ids.contains(id))
-        .collect();
-    if !wrongly_armed.is_empty() {
-        failures.push(format!("systems {wrongly_armed:?} still armed"));
-    }
-    let telemetry_m = log
-        .as_ref()
-        .map_or(f64::INFINITY, |l| l.summary.min_separation_m);
-    if telemetry_m < safety {
-        failures.push(format!(
-            "telemetry separation {telemetry_m:.3} m < {safety} m"
-        ));
-    }
-    if truth_m < safety {
-        failures.push(format!("true separation {truth_m:.3} m < {safety} m"));
-    }
-    Ok(ScenarioReport {
-        name: scenario.name.to_string(),
-        faults: if scenario.faults.is_empty() {
-            "—".into()
-        } else {
-            scenario.faults.join(" ")
-        },
-        expected: scenario.expect.describe(),
-        observed,
-        min_separation_telemetry_m: telemetry_m,
-        min_separation_truth_m: truth_m,
-        safety_distance_m: safety,
-        duration_s,
-        passed: failures.is_empty(),
-        failures,
-        log,
-    })
+        .collect()
 }
 
 /// Samples the simulator's true positions at 50 Hz until `done`: the smallest
 /// distance between two airborne vehicles, and whether anyone left the ground.
-async fn watch_truth(swarm: &Swarm, done: &std::sync::atomic::AtomicBool) -> (f64, bool) {
+async fn watch_truth(swarm: &Swarm, done: &AtomicBool) -> (f64, bool) {
     let mut min_m = f64::INFINITY;
     let mut ever_airborne = false;
     let mut airborne = Vec::with_capacity(swarm.len());
-    while !done.load(std::sync::atomic::Ordering::Relaxed) {
-        min_m = min_m.min(super::true_min_separation_m(swarm, &mut airborne));
+    while !done.load(Ordering::Relaxed) {
+        min_m = min_m.min(crate::true_min_separation_m(swarm, &mut airborne));
         ever_airborne |= !airborne.is_empty();
         tokio::time::sleep(Duration::from_millis(20)).await;
     }

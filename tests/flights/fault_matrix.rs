@@ -4,7 +4,6 @@
 //! from telemetry and from the simulator's true positions. The full matrix is
 //! `swarmctl bench faults`.
 
-use std::path::Path;
 use std::time::Duration;
 use swarmctl::plan;
 use swarmctl_harness::fault_matrix::{ScenarioReport, run_scenario, scenarios};

@@ -1,7 +1,6 @@
 //! Reduced soak: three flights back to back in one process must leave no file
 //! descriptors behind and keep memory flat. `swarmctl bench soak` runs ten.
 
-use std::path::Path;
 use std::time::Duration;
 use swarmctl::plan;
 use swarmctl_harness::fault_matrix::{Expect, Scenario, run_scenario};

@@ -11,18 +11,25 @@
 //! real flight.
 
 use std::time::{Duration, Instant};
+use swarmctl_harness::resources;
 use swarmctl_viz::{Drone, FlightSample, Group, Recorder, RecorderOptions, Scene, Sink};
 
 const DRONES: usize = 100;
 const RATE_HZ: f64 = 20.0;
 
-fn cpu_s(who: libc::c_int) -> f64 {
-    // SAFETY: getrusage writes only into the zeroed struct we pass.
-    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: valid `who` and pointer.
-    unsafe { libc::getrusage(who, &mut u) };
-    let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    s(u.ru_utime) + s(u.ru_stime)
+/// What the benchmark could not do (open the temp dir, start or finish the recorder).
+type BenchResult<T> = Result<T, Box<dyn std::error::Error>>;
+
+/// User + system CPU of the whole process, seconds.
+fn process_cpu_s() -> BenchResult<f64> {
+    resources::process_cpu_s()
+        .ok_or_else(|| "cannot read the process's CPU time (Linux only)".into())
+}
+
+/// User + system CPU of the calling (feeding) thread, seconds.
+fn feeder_cpu_s() -> BenchResult<f64> {
+    resources::this_thread_cpu_s()
+        .ok_or_else(|| "cannot read the thread's CPU time (Linux only)".into())
 }
 
 fn scene() -> Scene {
@@ -58,15 +65,15 @@ fn position(i: usize, t_s: f64) -> [f64; 3] {
     ]
 }
 
-fn main() {
+fn main() -> BenchResult<()> {
     let seconds: f64 = std::env::var("VIZ_BENCH_SECONDS")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(30.0);
-    let dir = tempfile::tempdir().expect("temp dir");
+    let dir = tempfile::tempdir()?;
     let path = dir.path().join("bench.rrd");
-    let process_before = cpu_s(libc::RUSAGE_SELF);
-    let feeder_before = cpu_s(libc::RUSAGE_THREAD);
+    let process_before = process_cpu_s()?;
+    let feeder_before = feeder_cpu_s()?;
     let mut options = RecorderOptions::for_sink(&Sink::File(path.clone()));
     if let Some(flush_s) = std::env::var("VIZ_BENCH_FLUSH_S")
         .ok()
@@ -75,8 +82,7 @@ fn main() {
         options.flush_period_s = flush_s;
     }
     println!("  flush period         {} s", options.flush_period_s);
-    let recorder =
-        Recorder::start(&Sink::File(path.clone()), &scene(), &[], options).expect("start recorder");
+    let recorder = Recorder::start(&Sink::File(path.clone()), &scene(), &[], options)?;
     let handle = recorder.handle();
     let started = Instant::now();
     let ticks = (seconds * RATE_HZ).round() as u64;
@@ -103,11 +109,14 @@ fn main() {
         std::thread::sleep(next.saturating_duration_since(Instant::now()));
     }
     let flight_wall_s = started.elapsed().as_secs_f64();
+    // The recorder thread's own CPU, read while it still runs (it ends at finish).
+    let recorder_thread_s =
+        resources::threads_named_cpu_s(swarmctl_viz::RECORDER_THREAD).unwrap_or(f64::NAN);
     drop(handle);
-    let stats = recorder.finish().expect("finish recorder");
+    let stats = recorder.finish()?;
     let total_wall_s = started.elapsed().as_secs_f64();
-    let feeder_s = cpu_s(libc::RUSAGE_THREAD) - feeder_before;
-    let recording_cpu_s = cpu_s(libc::RUSAGE_SELF) - process_before - feeder_s;
+    let feeder_s = feeder_cpu_s()? - feeder_before;
+    let recording_cpu_s = process_cpu_s()? - process_before - feeder_s;
     let size_mb = std::fs::metadata(&path).map_or(0.0, |m| m.len() as f64 / 1e6);
     println!(
         "viz_recorder: {DRONES} drones x {RATE_HZ} Hz for {flight_wall_s:.1} s (finish took {:.2} s)",
@@ -119,8 +128,8 @@ fn main() {
     );
     println!(
         "  recorder thread CPU  {:.3} s = {:.2}% of one core",
-        stats.thread_cpu_s,
-        100.0 * stats.thread_cpu_s / flight_wall_s
+        recorder_thread_s,
+        100.0 * recorder_thread_s / flight_wall_s
     );
     println!(
         "  all recording CPU    {recording_cpu_s:.3} s = {:.2}% of one core (recorder + rerun threads)",
@@ -132,4 +141,5 @@ fn main() {
         sending.as_secs_f64() * 1e9 / (ticks as f64 * DRONES as f64)
     );
     println!("  recording size       {size_mb:.1} MB");
+    Ok(())
 }

@@ -28,6 +28,9 @@ pub struct Args {
     #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
     faults: Vec<FaultSpec>,
     /// Flight log (JSON); default flights/<mission>-<unix time>.json.
+    // The comment above is `--help` text, shown as written: the placeholders
+    // are not HTML.
+    #[allow(rustdoc::invalid_html_tags)]
     #[arg(long)]
     log: Option<PathBuf>,
     /// Planner deadline in seconds (when no --plan is given).
@@ -97,85 +100,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     })
 }
 
+/// Flies `plan` with the live status view (and `observer`, the recording), on
+/// the mission's vehicles or the bundled SITL; Ctrl-C lands everyone.
 async fn fly_async(
     args: &Args,
     mission: &Mission,
     plan: &DiscretePlan,
-    observer: Option<std::sync::Arc<dyn fly::FlightObserver>>,
+    observer: Option<Arc<dyn fly::FlightObserver>>,
 ) -> anyhow::Result<fly::FlightLog> {
     let (abort_tx, abort_rx) = tokio::sync::watch::channel(false);
-    tokio::spawn(async move {
-        if tokio::signal::ctrl_c().await.is_ok() {
-            eprintln!("Ctrl-C: every drone holds, then lands (Ctrl-C again to quit at once)");
-            let _ = abort_tx.send(true);
-            if tokio::signal::ctrl_c().await.is_ok() {
-                std::process::exit(130);
-            }
-        }
-    });
-    let endpoints: Vec<Option<VehicleLink>> = plan
-        .drones
-        .iter()
-        .enumerate()
-        .map(|(i, d)| {
-            mission
-                .drones()
-                .find(|(_, m)| m.id == d.id)
-                .and_then(|(_, m)| {
-                    m.endpoint.clone().map(|endpoint| VehicleLink {
-                        endpoint,
-                        system_id: m.system_id.unwrap_or(i as u8 + 1),
-                    })
-                })
-        })
-        .collect();
+    abort_on_ctrl_c(abort_tx);
     let source = match &args.signing_key_file {
         Some(file) => Some(KeySource::File(file.clone())),
         None => mission.link.signing.clone(),
     };
     let signing_key = source.as_ref().map(SigningKey::load).transpose()?;
-    let mut swarm = None;
-    let vehicles = if endpoints.iter().all(Option::is_none) {
-        let flavour = match args.autopilot.as_deref() {
-            Some("ardupilot") => swarmctl_sitl::Flavour::ArduPilot,
-            Some(_) => swarmctl_sitl::Flavour::Px4,
-            None => match mission.link.autopilot {
-                Autopilot::Px4 => swarmctl_sitl::Flavour::Px4,
-                Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
-            },
-        };
-        let mut configs =
-            swarmctl_harness::bundled_sitl::vehicle_configs(mission, plan, flavour, &args.faults)?;
-        for c in &mut configs {
-            c.signing_key = signing_key.as_ref().map(SigningKey::bytes);
-        }
-        let (s, links) =
-            swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
-        eprintln!(
-            "started the bundled SITL: {} {flavour:?} vehicles on 127.0.0.1",
-            links.len()
-        );
-        swarm = Some(s);
-        links
-    } else {
-        if !args.faults.is_empty() || args.autopilot.is_some() {
-            anyhow::bail!(
-                "--fault and --autopilot apply to the bundled SITL only, but the mission names endpoints"
-            );
-        }
-        endpoints
-            .into_iter()
-            .zip(&plan.drones)
-            .map(|(e, d)| {
-                e.with_context(|| {
-                    format!(
-                        "drone {} has no endpoint (give all drones one, or none)",
-                        d.id
-                    )
-                })
-            })
-            .collect::<anyhow::Result<_>>()?
-    };
+    let (vehicles, swarm) = vehicles(args, mission, plan, signing_key.as_ref()).await?;
     let mut options = FlyOptions::new(vehicles);
     options.observers.extend(observer);
     let status = Arc::new(StatusView::new(if args.plain {
@@ -194,6 +134,104 @@ async fn fly_async(
         s.shutdown().await;
     }
     Ok(result?)
+}
+
+/// On Ctrl-C every drone holds, then lands (the flight sees `abort_tx`); a second
+/// Ctrl-C quits at once.
+fn abort_on_ctrl_c(abort_tx: tokio::sync::watch::Sender<bool>) {
+    tokio::spawn(async move {
+        if tokio::signal::ctrl_c().await.is_ok() {
+            eprintln!("Ctrl-C: every drone holds, then lands (Ctrl-C again to quit at once)");
+            let _ = abort_tx.send(true);
+            if tokio::signal::ctrl_c().await.is_ok() {
+                std::process::exit(130);
+            }
+        }
+    });
+}
+
+/// How to reach each drone of `plan` (plan order): the mission's endpoints, or,
+/// when it names none, the bundled SITL started here (returned too, to shut it
+/// down after the flight).
+async fn vehicles(
+    args: &Args,
+    mission: &Mission,
+    plan: &DiscretePlan,
+    signing_key: Option<&SigningKey>,
+) -> anyhow::Result<(Vec<VehicleLink>, Option<swarmctl_sitl::Swarm>)> {
+    let endpoints = mission_endpoints(mission, plan);
+    if endpoints.iter().all(Option::is_none) {
+        let (links, swarm) = start_bundled_sitl(args, mission, plan, signing_key).await?;
+        return Ok((links, Some(swarm)));
+    }
+    if !args.faults.is_empty() || args.autopilot.is_some() {
+        anyhow::bail!(
+            "--fault and --autopilot apply to the bundled SITL only, but the mission names endpoints"
+        );
+    }
+    let links = endpoints
+        .into_iter()
+        .zip(&plan.drones)
+        .map(|(e, d)| {
+            e.with_context(|| {
+                format!(
+                    "drone {} has no endpoint (give all drones one, or none)",
+                    d.id
+                )
+            })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    Ok((links, None))
+}
+
+/// The endpoint the mission gives each drone of `plan` (plan order), if any; a
+/// drone without a system id gets its 1-based position in the plan.
+fn mission_endpoints(mission: &Mission, plan: &DiscretePlan) -> Vec<Option<VehicleLink>> {
+    plan.drones
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            mission
+                .drones()
+                .find(|(_, m)| m.id == d.id)
+                .and_then(|(_, m)| {
+                    m.endpoint.clone().map(|endpoint| VehicleLink {
+                        endpoint,
+                        system_id: m.system_id.unwrap_or(i as u8 + 1),
+                    })
+                })
+        })
+        .collect()
+}
+
+/// Starts one bundled SITL vehicle per drone with the `--fault`s, the autopilot
+/// `--autopilot` or the mission names, and the signing key if there is one.
+async fn start_bundled_sitl(
+    args: &Args,
+    mission: &Mission,
+    plan: &DiscretePlan,
+    signing_key: Option<&SigningKey>,
+) -> anyhow::Result<(Vec<VehicleLink>, swarmctl_sitl::Swarm)> {
+    let flavour = match args.autopilot.as_deref() {
+        Some("ardupilot") => swarmctl_sitl::Flavour::ArduPilot,
+        Some(_) => swarmctl_sitl::Flavour::Px4,
+        None => match mission.link.autopilot {
+            Autopilot::Px4 => swarmctl_sitl::Flavour::Px4,
+            Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
+        },
+    };
+    let mut configs =
+        swarmctl_harness::bundled_sitl::vehicle_configs(mission, plan, flavour, &args.faults)?;
+    for c in &mut configs {
+        c.signing_key = signing_key.map(SigningKey::bytes);
+    }
+    let (swarm, links) =
+        swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
+    eprintln!(
+        "started the bundled SITL: {} {flavour:?} vehicles on 127.0.0.1",
+        links.len()
+    );
+    Ok((links, swarm))
 }
 
 /// The plan file, refused before anything starts unless it is a valid plan for

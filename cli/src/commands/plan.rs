@@ -41,11 +41,60 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         deadline,
         seed: args.seed,
     };
+    let solution = solve_with_spinner(&mission, &options)
+        .with_context(|| format!("planning {}", input.display()))?;
+    if let Err(violations) = plan::validate_plan(&mission, &solution.plan) {
+        let list: Vec<String> = violations.iter().map(|v| format!("  {v}")).collect();
+        anyhow::bail!(
+            "the planner produced an invalid plan (a bug):\n{}",
+            list.join("\n")
+        );
+    }
+    print_solution(&input, &mission, &solution);
+    let compiled = compiled::compile(&mission, &solution)
+        .with_context(|| format!("scheduling {} (no plan file written)", input.display()))?;
+    let c = &compiled.check;
+    let ideal_s = f64::from(solution.plan.makespan_steps) * mission.world.voxel_size_m()
+        / mission.limits.max_speed_mps;
+    println!(
+        "  schedule        {:.2} s to the last arrival ({:.2} s if every drone cruised at top speed in lockstep)",
+        compiled.makespan_s, ideal_s
+    );
+    println!(
+        "  checked         min separation ≥ {:.3} m (safety {:.3} m), max speed {:.3} m/s (limit {}), max accel {:.3} m/s² (limit {})",
+        c.min_separation_bound_m,
+        mission.limits.safety_distance_m,
+        c.max_speed_mps,
+        mission.limits.max_speed_mps,
+        c.max_accel_mps2,
+        mission.limits.max_accel_mps2
+    );
+    if let Some(path) = &args.output {
+        let json = serde_json::to_string(&compiled)?;
+        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("  wrote           {}", path.display());
+    }
+    if let Some(sink) = args.viewer.sink() {
+        swarmctl_cli::record::record_plan(&mission, &compiled, &sink)
+            .context("recording the plan")?;
+        println!("  recording       {}", super::replay::describe(&sink));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Plans `mission`, showing the planner's progress on a spinner.
+fn solve_with_spinner(
+    mission: &swarmctl::mission::Mission,
+    options: &plan::PlanOptions,
+) -> Result<plan::Solution, plan::PlanError> {
     let spinner = ProgressBar::new_spinner();
-    spinner.set_style(ProgressStyle::with_template("{spinner} {msg}").expect("static template"));
+    // The template is fixed; were it ever refused, the default spinner does as well.
+    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg}") {
+        spinner.set_style(style);
+    }
     spinner.set_message(format!("planning {} drones", mission.drone_count()));
     spinner.enable_steady_tick(Duration::from_millis(120));
-    let result = plan::solve_with_progress(&mission, &options, &mut |p| {
+    let result = plan::solve_with_progress(mission, options, &mut |p| {
         spinner.set_message(format!(
             "planning: {} conflict-tree nodes, {} open, makespan ≥ {} steps, {:.1} s",
             p.ct_nodes_expanded,
@@ -55,14 +104,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ));
     });
     spinner.finish_and_clear();
-    let solution = result.with_context(|| format!("planning {}", input.display()))?;
-    if let Err(violations) = plan::validate_plan(&mission, &solution.plan) {
-        let list: Vec<String> = violations.iter().map(|v| format!("  {v}")).collect();
-        anyhow::bail!(
-            "the planner produced an invalid plan (a bug):\n{}",
-            list.join("\n")
-        );
-    }
+    result
+}
+
+/// The plan's figures: makespan against the lower bound, the search's work and time.
+fn print_solution(
+    input: &std::path::Path,
+    mission: &swarmctl::mission::Mission,
+    solution: &plan::Solution,
+) {
     let s = &solution.stats;
     let p = &solution.plan;
     println!(
@@ -92,33 +142,4 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         s.low_level_time.as_secs_f64(),
         s.high_level_time().as_secs_f64()
     );
-    let compiled = compiled::compile(&mission, &solution)
-        .with_context(|| format!("scheduling {} (no plan file written)", input.display()))?;
-    let c = &compiled.check;
-    let ideal_s =
-        f64::from(p.makespan_steps) * mission.world.voxel_size_m() / mission.limits.max_speed_mps;
-    println!(
-        "  schedule        {:.2} s to the last arrival ({:.2} s if every drone cruised at top speed in lockstep)",
-        compiled.makespan_s, ideal_s
-    );
-    println!(
-        "  checked         min separation ≥ {:.3} m (safety {:.3} m), max speed {:.3} m/s (limit {}), max accel {:.3} m/s² (limit {})",
-        c.min_separation_bound_m,
-        mission.limits.safety_distance_m,
-        c.max_speed_mps,
-        mission.limits.max_speed_mps,
-        c.max_accel_mps2,
-        mission.limits.max_accel_mps2
-    );
-    if let Some(path) = &args.output {
-        let json = serde_json::to_string(&compiled)?;
-        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
-        println!("  wrote           {}", path.display());
-    }
-    if let Some(sink) = args.viewer.sink() {
-        swarmctl_cli::record::record_plan(&mission, &compiled, &sink)
-            .context("recording the plan")?;
-        println!("  recording       {}", super::replay::describe(&sink));
-    }
-    Ok(ExitCode::SUCCESS)
 }

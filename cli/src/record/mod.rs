@@ -23,13 +23,18 @@ pub use swarmctl_viz::{RecorderOptions, RecorderStats, Sink, VizError};
 /// Why a recording could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum RecordError {
+    /// The recorder could not open its sink or log to it.
     #[error(transparent)]
     Viz(#[from] VizError),
+    /// The plan could not be scheduled into trajectories to show.
     #[error("cannot schedule the plan for the recording: {0}")]
     Compile(#[from] swarmctl::compiled::CompileError),
+    /// The directory a file sink goes into could not be created.
     #[error("cannot create {dir}: {source}")]
     CreateDir {
+        /// The directory.
         dir: std::path::PathBuf,
+        /// What the file system said.
         #[source]
         source: std::io::Error,
     },

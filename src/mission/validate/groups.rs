@@ -1,8 +1,8 @@
 //! Groups, their drones and their goals: names and ids unique across the mission,
 //! every start and goal a free voxel used once, one goal per drone.
 
-use super::Report;
 use super::fields::{check_drone_id, check_endpoint};
+use super::report::Report;
 use super::world::Bounds;
 use crate::mission::schema::{DroneSpec, GroupSpec, RawVoxel};
 use crate::mission::types::{Drone, Group};

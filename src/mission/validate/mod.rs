@@ -6,20 +6,20 @@
 //! the checks early, since nothing placed in the world can be checked without it; and
 //! reachability is only asked of a mission that is otherwise valid.
 
+mod bounds;
 mod fields;
 mod groups;
 mod reachability;
+mod report;
 mod settings;
 mod world;
 
 use super::error::Problem;
 use super::schema::MissionFile;
 use super::types::{Limits, LinkSettings, Mission};
+use report::Report;
 
-/// Largest accepted edge of the world, in voxels.
-pub const MAX_DIMENSION: i64 = 4096;
-/// Largest accepted world, in voxels (the planner's time-expanded networks grow with it).
-pub const MAX_VOXELS: i64 = 1 << 24;
+pub use bounds::{MAX_DIMENSION, MAX_VOXELS};
 
 /// Checks a parsed mission. Returns every problem found, not just the first.
 pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
@@ -62,25 +62,4 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         },
         groups,
     })
-}
-
-/// The problems found so far, in the order they were found.
-#[derive(Default)]
-struct Report {
-    problems: Vec<Problem>,
-}
-
-impl Report {
-    /// Records that the field at `path` is wrong, and why.
-    fn add(&mut self, path: impl Into<String>, message: impl Into<String>) {
-        self.problems.push(Problem::new(path, message));
-    }
-
-    fn is_empty(&self) -> bool {
-        self.problems.is_empty()
-    }
-
-    fn into_problems(self) -> Vec<Problem> {
-        self.problems
-    }
 }

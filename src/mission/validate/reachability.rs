@@ -1,6 +1,6 @@
 //! Whether every drone can reach a goal of its own group through free space.
 
-use super::Report;
+use super::report::Report;
 use crate::mission::types::Group;
 use crate::world::{Voxel, VoxelGrid};
 use std::collections::BTreeMap;

@@ -1,7 +1,8 @@
 //! The mission's scalar settings: its name, the world's extent and scale, the
 //! kinematic limits and the link to the vehicles.
 
-use super::{MAX_DIMENSION, MAX_VOXELS, Report};
+use super::bounds::{MAX_DIMENSION, MAX_VOXELS};
+use super::report::Report;
 use crate::mission::schema::{LimitsSpec, LinkSpec, WorldSpec};
 use crate::mission::types::KeySource;
 

@@ -1,6 +1,6 @@
 //! The voxel world: which written coordinates lie inside it, and its obstacles.
 
-use super::Report;
+use super::report::Report;
 use crate::mission::schema::{BoxSpec, ObstacleSpec, RawVoxel, WorldSpec};
 use crate::world::{Voxel, VoxelGrid};
 

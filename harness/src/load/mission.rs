@@ -1,0 +1,103 @@
+//! The load benchmark's generated mission.
+
+use crate::HarnessError;
+use rand::seq::SliceRandom;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use swarmctl::mission::MissionFile;
+use swarmctl::mission::schema::{LimitsSpec, LinkSpec, WorldSpec};
+
+/// Drones per group (within a group any drone may take any goal).
+const DRONES_PER_GROUP: usize = 20;
+/// Layers of the world above the lowest one.
+const LAYERS: u32 = 3;
+/// The most vehicles the bundled SITL flies (MAVLink system ids 1–254).
+const MAX_VEHICLES: usize = 254;
+
+/// A seeded random mission for `vehicles` drones on a square world just large
+/// enough for two free columns per drone, four layers high, no obstacles: starts
+/// on distinct x,y columns in the lowest layer, goals on distinct columns at random
+/// heights, groups of up to 20. The lowest layer is 1 m above the ground.
+pub fn load_mission(vehicles: usize, seed: u64) -> Result<MissionFile, HarnessError> {
+    if !(1..=MAX_VEHICLES).contains(&vehicles) {
+        return Err(HarnessError::LoadVehicles { vehicles });
+    }
+    let side = ((2 * vehicles) as f64).sqrt().ceil().max(2.0) as u32;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut columns: Vec<[i64; 2]> = (0..side)
+        .flat_map(|x| (0..side).map(move |y| [i64::from(x), i64::from(y)]))
+        .collect();
+    columns.shuffle(&mut rng);
+    let starts: Vec<[i64; 3]> = columns[..vehicles]
+        .iter()
+        .map(|&[x, y]| [x, y, 0])
+        .collect();
+    columns.shuffle(&mut rng);
+    let heights: Vec<i64> = (0..vehicles)
+        .map(|_| rng.random_range(0..=i64::from(LAYERS)))
+        .collect();
+    let goals: Vec<[i64; 3]> = columns[..vehicles]
+        .iter()
+        .zip(&heights)
+        .map(|(&[x, y], &z)| [x, y, z])
+        .collect();
+    let groups = vehicles.div_ceil(DRONES_PER_GROUP);
+    let group_specs = swarmctl::generate::split_into_groups(groups, &starts, &goals);
+    Ok(MissionFile {
+        name: format!("load-{vehicles}-s{seed}"),
+        description: Some(format!(
+            "Load benchmark (swarmctl bench load --vehicles {vehicles} --seed {seed}): \
+             {side}x{side}x{} voxels, starts and goals on distinct columns.",
+            LAYERS + 1
+        )),
+        world: WorldSpec {
+            dimensions: [i64::from(side), i64::from(side), i64::from(LAYERS + 1)],
+            voxel_size_m: 1.0,
+            origin_m: [0.0, 0.0, 1.0],
+            obstacles: Vec::new(),
+        },
+        limits: LimitsSpec {
+            max_speed_mps: 1.0,
+            max_accel_mps2: 2.0,
+            safety_distance_m: 0.25,
+        },
+        link: LinkSpec::default(),
+        groups: group_specs,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn load_missions_keep_starts_and_goals_on_distinct_columns() {
+        for (vehicles, seed) in [(1, 1), (50, 1), (200, 1), (200, 7), (254, 3)] {
+            let file = load_mission(vehicles, seed).unwrap();
+            let mission = swarmctl::mission::validate(&file).unwrap();
+            assert_eq!(mission.drone_count(), vehicles);
+            let starts: Vec<[i64; 3]> = file
+                .groups
+                .iter()
+                .flat_map(|g| g.drones.iter().map(|d| d.start))
+                .collect();
+            let goals: Vec<[i64; 3]> = file.groups.iter().flat_map(|g| g.goals.clone()).collect();
+            for list in [&starts, &goals] {
+                let columns: std::collections::HashSet<[i64; 2]> =
+                    list.iter().map(|v| [v[0], v[1]]).collect();
+                assert_eq!(columns.len(), vehicles);
+            }
+            assert!(starts.iter().all(|s| s[2] == 0));
+        }
+        assert_eq!(load_mission(40, 2).unwrap(), load_mission(40, 2).unwrap());
+        assert!(load_mission(0, 1).is_err() && load_mission(255, 1).is_err());
+    }
+
+    #[test]
+    fn the_bundled_load_mission_is_what_the_benchmark_generates() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../missions/load-200.yaml");
+        let text = std::fs::read_to_string(path).unwrap();
+        let file: MissionFile = swarmctl::mission::parse_yaml(&text).unwrap();
+        assert_eq!(file, load_mission(200, 1).unwrap());
+    }
+}
