@@ -53,7 +53,10 @@ pub fn lanes(drones: usize, seed: u64) -> (VoxelGrid, Limits, DiscretePlan) {
         .into_iter()
         .enumerate()
         .map(|(i, mut path)| {
-            let goal = *path.last().unwrap();
+            // Every lane path starts at its start voxel, so it is never empty.
+            let Some(&goal) = path.last() else {
+                unreachable!("lane paths start at their start voxel")
+            };
             path.resize(makespan as usize + 1, goal);
             DronePlan {
                 id: format!("d{i}"),

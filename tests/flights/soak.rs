@@ -7,8 +7,33 @@ use swarmctl_harness::fault_matrix::{Expect, Scenario, run_scenario};
 use swarmctl_harness::process_resources;
 use swarmctl_sitl::Flavour;
 
+/// Set in the child process that runs the soak alone.
+const ALONE: &str = "SWARMCTL_SOAK_ALONE";
+
+/// The flights binary runs its tests in parallel in one process, and every flight
+/// opens sockets; descriptors are counted per process, so the soak re-runs itself
+/// alone in a child process of this same binary and asserts there.
 #[test]
 fn three_flights_back_to_back_leak_no_descriptors() {
+    if std::env::var_os(ALONE).is_some() {
+        soak_alone();
+        return;
+    }
+    let exe = std::env::current_exe().expect("test binary path");
+    let status = std::process::Command::new(exe)
+        .args([
+            "soak::three_flights_back_to_back_leak_no_descriptors",
+            "--exact",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(ALONE, "1")
+        .status()
+        .expect("run the soak alone");
+    assert!(status.success(), "the soak failed when run alone: {status}");
+}
+
+fn soak_alone() {
     let mission =
         swarmctl::mission::load(&crate::support::repo_path("missions/swap-corridor.yaml"))
             .expect("mission");

@@ -1,4 +1,4 @@
-//! Hostile and broken plan files (issue 8): `swarmctl::compiled::file` never panics,
+//! Hostile and broken plan files: `swarmctl::compiled::file` never panics,
 //! never spins, names the file in every error, refuses every plan that does not
 //! fit its mission, and accepts the plan `swarmctl plan` wrote.
 
