@@ -73,6 +73,7 @@ pub fn lanes(drones: usize, seed: u64) -> (VoxelGrid, Limits, DiscretePlan) {
             makespan_steps: makespan,
             sum_of_costs_steps: 0,
             drones,
+            legs: Vec::new(),
         },
     )
 }
@@ -88,17 +89,18 @@ fn sample_rows(rng: &mut ChaCha8Rng, count: usize) -> Vec<u32> {
 
 /// East to `turn`, north/south to `y1`, east to the goal face.
 fn route(y0: u32, y1: u32, z: u32, turn: u32) -> Vec<Voxel> {
-    let mut r = vec![Voxel::new(0, y0, z)];
+    let v = |x: u32, y: u32| Voxel::new(x as i32, y as i32, z as i32);
+    let mut r = vec![v(0, y0)];
     for x in 1..=turn {
-        r.push(Voxel::new(x, y0, z));
+        r.push(v(x, y0));
     }
     let mut y = y0;
     while y != y1 {
         y = if y1 > y { y + 1 } else { y - 1 };
-        r.push(Voxel::new(turn, y, z));
+        r.push(v(turn, y));
     }
     for x in turn + 1..WIDTH {
-        r.push(Voxel::new(x, y1, z));
+        r.push(v(x, y1));
     }
     r
 }

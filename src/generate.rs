@@ -1,7 +1,9 @@
 //! Random missions in the style of the paper's experiments.
 
 use crate::mission::MissionFile;
-use crate::mission::schema::{DroneSpec, GroupSpec, LimitsSpec, LinkSpec, ObstacleSpec, WorldSpec};
+use crate::mission::schema::{
+    DroneSpec, GroupSpec, LimitsSpec, LinkSpec, ObstacleSpec, StageSpec, WorldSpec,
+};
 use crate::world::{Voxel, VoxelGrid};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
@@ -22,6 +24,22 @@ pub struct GenerateOptions {
     pub seed: u64,
     /// Edge length of one voxel, metres.
     pub voxel_size_m: f64,
+    /// Where the drones' pads go.
+    pub pads: PadLayout,
+    /// Random formations flown after the first, each a `stages` entry.
+    pub stages: usize,
+}
+
+/// Where a generated mission puts its launch pads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PadLayout {
+    /// No `pad` fields: each drone's pad defaults to the cell below its start (or
+    /// the nearest free one where starts share a column).
+    #[default]
+    Default,
+    /// A launch grid west of the world, one column of the world's depth after
+    /// another, written as explicit `pad` fields.
+    Beside,
 }
 
 impl Default for GenerateOptions {
@@ -33,6 +51,8 @@ impl Default for GenerateOptions {
             groups: 5,
             seed: 1,
             voxel_size_m: 1.0,
+            pads: PadLayout::Default,
+            stages: 0,
         }
     }
 }
@@ -74,6 +94,8 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         groups,
         seed,
         voxel_size_m,
+        pads,
+        stages,
     } = *options;
     let total: usize = dimensions.iter().map(|&d| d as usize).product();
     if dimensions.contains(&0) {
@@ -119,7 +141,13 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
     let to_raw = |v: Voxel| [i64::from(v.x), i64::from(v.y), i64::from(v.z)];
     let starts: Vec<[i64; 3]> = starts.into_iter().map(to_raw).collect();
     let goals: Vec<[i64; 3]> = goals.into_iter().map(to_raw).collect();
-    let group_specs = split_into_groups(groups, &starts, &goals);
+    let mut group_specs = split_into_groups(groups, &starts, &goals);
+    if pads == PadLayout::Beside {
+        pads_beside(&mut group_specs, dimensions[1]);
+    }
+    let stage_specs = (1..=stages)
+        .map(|k| random_stage(k, &group_specs, &mut free, &mut rng))
+        .collect();
 
     Ok(MissionFile {
         name: format!(
@@ -132,8 +160,10 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         world: WorldSpec {
             dimensions: dimensions.map(i64::from),
             voxel_size_m,
-            // Lift the lowest layer one metre off the ground drones take off from.
-            origin_m: [0.0, 0.0, 1.0],
+            // Lift the lowest layer one metre off the ground drones take off from
+            // (higher for big voxels, so the pad layer below keeps the safety distance).
+            origin_m: [0.0, 0.0, 1.0_f64.max(0.5 * voxel_size_m)],
+            pad_height_m: None,
             obstacles: world
                 .obstacles()
                 .map(|v| ObstacleSpec::Cell(to_raw(v)))
@@ -146,7 +176,42 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         },
         link: LinkSpec::default(),
         groups: group_specs,
+        stages: stage_specs,
+        landing: None,
     })
+}
+
+/// Writes explicit pads in a launch grid west of the world: columns of `depth`
+/// cells, one after another going west.
+fn pads_beside(groups: &mut [GroupSpec], depth: u32) {
+    let depth = i64::from(depth);
+    let all = groups.iter_mut().flat_map(|g| g.drones.iter_mut());
+    for (i, d) in all.enumerate() {
+        let i = i as i64;
+        d.pad = Some([-1 - i / depth, i % depth]);
+    }
+}
+
+/// Stage `k`: for every group as many random free voxels as it has drones, no voxel
+/// twice within the stage.
+fn random_stage(
+    k: usize,
+    groups: &[GroupSpec],
+    free: &mut [Voxel],
+    rng: &mut ChaCha8Rng,
+) -> StageSpec {
+    free.shuffle(rng);
+    let mut next = free
+        .iter()
+        .map(|v| [i64::from(v.x), i64::from(v.y), i64::from(v.z)]);
+    StageSpec {
+        name: format!("stage-{k}"),
+        hold_s: None,
+        goals: groups
+            .iter()
+            .map(|g| (g.name.clone(), next.by_ref().take(g.drones.len()).collect()))
+            .collect(),
+    }
 }
 
 /// Colour names read better than numbers in logs and viewers.
@@ -168,7 +233,8 @@ pub fn split_into_groups(groups: usize, starts: &[[i64; 3]], goals: &[[i64; 3]])
                     .enumerate()
                     .map(|(k, i)| DroneSpec {
                         id: format!("{name}-{}", k + 1),
-                        start: starts[i],
+                        start: Some(starts[i]),
+                        pad: None,
                         endpoint: None,
                         system_id: None,
                     })
@@ -220,6 +286,42 @@ mod tests {
             assert_eq!(mission.drone_count(), 100);
             assert_eq!(mission.world.free_count(), 500 - 150);
         }
+    }
+
+    #[test]
+    fn pads_beside_and_stages_make_valid_missions() {
+        let options = GenerateOptions {
+            drones: 30,
+            groups: 3,
+            pads: PadLayout::Beside,
+            stages: 2,
+            ..Default::default()
+        };
+        let file = generate(&options).unwrap();
+        assert_eq!(file.stages.len(), 2);
+        let pads: Vec<[i64; 2]> = file
+            .groups
+            .iter()
+            .flat_map(|g| g.drones.iter().filter_map(|d| d.pad))
+            .collect();
+        assert_eq!(pads.len(), 30);
+        assert!(pads.iter().all(|p| p[0] < 0 && (0..10).contains(&p[1])));
+        let mission = crate::mission::validate(&file).unwrap();
+        assert_eq!(mission.stages.len(), 2);
+        assert!(
+            mission
+                .stages
+                .iter()
+                .all(|s| s.goals.iter().all(Option::is_some))
+        );
+        // Without pads or stages the generator draws exactly what it drew before.
+        let plain = generate(&GenerateOptions::default()).unwrap();
+        let again = generate(&GenerateOptions {
+            stages: 3,
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(plain.groups, again.groups);
     }
 
     #[test]

@@ -61,7 +61,7 @@ pub fn vehicle_configs(
         .iter()
         .enumerate()
         .map(|(i, d)| {
-            let start = mission.world.center_m(d.path[0]);
+            let start = mission.airspace.center_m(d.path[0]);
             let ground_ned_m = frames::ned_f32_from_enu([start.x, start.y, 0.0]);
             let mut c = VehicleConfig::new(i as u8 + 1, flavour).at(origin, ground_ned_m);
             c.max_speed_mps = mission.limits.max_speed_mps as f32;

@@ -35,6 +35,7 @@ impl PlanSuite {
             groups,
             seed,
             voxel_size_m: 1.0,
+            ..GenerateOptions::default()
         }
     }
 }
@@ -50,8 +51,11 @@ pub struct PlanSuiteReport {
     pub solved: usize,
     /// Wall time of each solved instance, seconds.
     pub times_s: Vec<f64>,
-    /// (makespan, lower bound) of each solved instance.
+    /// (makespan, lower bound) of each solved instance, pad to pad (the lower bound
+    /// is the sum of the legs' bounds).
     pub makespans: Vec<(u32, u32)>,
+    /// Per solved instance, per leg: (name, makespan, lower bound).
+    pub legs: Vec<Vec<(String, u32, u32)>>,
     /// Conflict-tree nodes expanded for each solved instance: the planner's work,
     /// independent of the machine's speed.
     pub ct_nodes: Vec<u64>,
@@ -72,6 +76,7 @@ pub fn run_plan_suite(
         solved: 0,
         times_s: Vec::new(),
         makespans: Vec::new(),
+        legs: Vec::new(),
         ct_nodes: Vec::new(),
     };
     for seed in 1..=seeds {
@@ -104,6 +109,14 @@ pub fn run_plan_suite(
                 report.solved += 1;
                 report.times_s.push(time_s);
                 report.makespans.push((makespan, lower_bound));
+                report.legs.push(
+                    solution
+                        .plan
+                        .legs
+                        .iter()
+                        .map(|l| (l.name.clone(), l.makespan_steps, l.lower_bound_steps))
+                        .collect(),
+                );
                 report.ct_nodes.push(solution.stats.ct_nodes_expanded);
                 on_instance(
                     seed,

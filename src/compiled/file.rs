@@ -12,13 +12,15 @@
 //!    by group, file order within), each in its own group, every path with
 //!    `makespan_steps + 1` entries.
 //! 3. **It is a valid plan for the mission**, by the independent validator
-//!    ([`validate_plan`]): each path starts at its drone's start voxel, ends at a
-//!    goal of its group with one goal per drone, moves at most one voxel per step,
-//!    never enters an obstacle or leaves the world, and no two drones meet, swap or
-//!    rotate; the reported makespan and sum of costs are the true ones.
+//!    ([`validate_plan`]): each path starts above its drone's pad, the legs are the
+//!    mission's (takeoff, formations and stages with their holds, landing) and end
+//!    with every drone on a target of its leg, paths move at most one voxel per
+//!    step, never enter an obstacle or leave the airspace, and no two drones meet,
+//!    swap or rotate; the reported makespan and sum of costs are the true ones.
 //!
-//! Only the discrete plan is read (`makespan_steps`, `sum_of_costs_steps`, and
-//! each drone's `id`, `group`, `goal`, `path`). The flight executor schedules and
+//! Only the discrete plan is read (`makespan_steps`, `sum_of_costs_steps`, `legs`,
+//! and each drone's `id`, `group`, `goal`, `path`); a drone's `pad` is implied by
+//! its path's first voxel. The flight executor schedules and
 //! samples its own trajectories from it, so the file's `trajectory`, `execution`
 //! and `check` are never flown and are not looked at; a file holding only the
 //! discrete plan is accepted too. Every error names the file.
@@ -164,7 +166,7 @@ fn parse(value: &Value) -> Result<(Option<String>, DiscretePlan), FieldError> {
         (
             "top level".to_string(),
             format!(
-                "expected an object with makespan_steps, sum_of_costs_steps and drones, found {}",
+                "expected an object with makespan_steps, sum_of_costs_steps, legs and drones, found {}",
                 kind(value)
             ),
         )
@@ -185,12 +187,14 @@ fn parse(value: &Value) -> Result<(Option<String>, DiscretePlan), FieldError> {
         .enumerate()
         .map(|(i, d)| drone(d, &format!("drones[{i}]")))
         .collect::<Result<_, _>>()?;
+    let legs = typed(required(top, "legs", "")?, "legs")?;
     Ok((
         written_for,
         DiscretePlan {
             makespan_steps,
             sum_of_costs_steps,
             drones,
+            legs,
         },
     ))
 }
@@ -299,6 +303,7 @@ name: tiny
 world:
   dimensions: [3, 3, 1]
   voxel_size_m: 1.0
+  origin_m: [0.0, 0.0, 1.5]
   obstacles: [[1, 1, 0]]
 limits: { max_speed_mps: 1.0, max_accel_mps2: 2.0, safety_distance_m: 0.25 }
 groups:
@@ -314,19 +319,13 @@ groups:
         mission::from_yaml(MISSION, Path::new("tiny.yaml")).expect("mission")
     }
 
+    /// The planner's plan for the tiny mission, as a plan file holds it.
     fn valid() -> Value {
-        serde_json::json!({
-            "mission": "tiny",
-            "makespan_steps": 2,
-            "sum_of_costs_steps": 4,
-            "makespan_s": 2.5,
-            "drones": [
-                { "id": "a1", "group": "a", "goal": [2, 0, 0],
-                  "path": [[0, 0, 0], [1, 0, 0], [2, 0, 0]], "trajectory": [] },
-                { "id": "b1", "group": "b", "goal": [2, 2, 0],
-                  "path": [[0, 2, 0], [1, 2, 0], [2, 2, 0]] }
-            ]
-        })
+        let solution =
+            crate::plan::solve(&tiny(), &crate::plan::PlanOptions::default()).expect("plans");
+        let mut v = serde_json::to_value(&solution.plan).expect("serialises");
+        v["mission"] = serde_json::json!("tiny");
+        v
     }
 
     fn load_value(value: &Value) -> Result<DiscretePlan, PlanFileError> {
@@ -344,8 +343,27 @@ groups:
     #[test]
     fn accepts_a_valid_plan() {
         let plan = load_value(&valid()).expect("valid");
-        assert_eq!(plan.makespan_steps, 2);
-        assert_eq!(plan.drones[1].path[2], Voxel::new(2, 2, 0));
+        // Up from the pad, two along, down to a pad of its group: its own.
+        assert_eq!(plan.legs.len(), 3);
+        assert_eq!(plan.drones[1].path[0], Voxel::new(0, 2, -1));
+        assert_eq!(
+            plan.drones[1].path[plan.legs[1].end_step as usize],
+            Voxel::new(2, 2, 0)
+        );
+    }
+
+    #[test]
+    fn legs_must_be_the_missions() {
+        let mut v = valid();
+        v["legs"].as_array_mut().unwrap().remove(1);
+        assert!(
+            message(&v).contains("the plan's legs do not match"),
+            "{}",
+            message(&v)
+        );
+        let mut v = valid();
+        v.as_object_mut().unwrap().remove("legs");
+        assert!(message(&v).contains("missing field `legs`"));
     }
 
     #[test]
@@ -380,7 +398,7 @@ groups:
     #[test]
     fn a_path_through_an_obstacle_is_refused() {
         let mut v = valid();
-        v["drones"][0]["path"] = serde_json::json!([[0, 0, 0], [1, 1, 0], [2, 0, 0]]);
+        v["drones"][0]["path"][2] = serde_json::json!([1, 1, 0]);
         let e = message(&v);
         assert!(e.contains("inside an obstacle"), "{e}");
     }
@@ -392,11 +410,13 @@ groups:
         drones.swap(0, 1);
         assert!(message(&v).contains("drone #0 of the plan is \"b1\""));
 
+        // a1 stops one step short of its formation goal.
         let mut v = valid();
-        v["drones"][0]["goal"] = serde_json::json!([2, 2, 0]);
-        v["drones"][0]["path"][2] = serde_json::json!([2, 2, 0]);
+        let end = v["legs"][1]["end_step"].as_u64().unwrap() as usize;
+        let before = v["drones"][0]["path"][end - 1].clone();
+        v["drones"][0]["path"][end] = before;
         let e = message(&v);
-        assert!(e.contains("not a goal of group"), "{e}");
+        assert!(e.contains("not a target of group \"a\""), "{e}");
     }
 
     #[test]

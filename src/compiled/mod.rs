@@ -6,7 +6,7 @@
 //! flight and refuses one that does not fit its mission.
 
 use crate::mission::Mission;
-use crate::plan::{DiscretePlan, PlanStats, Solution};
+use crate::plan::{DiscretePlan, PlanLeg, PlanStats, Solution};
 use crate::schedule::{self, ExecutionPlan, ScheduleError};
 use crate::verify::{self, CheckError, SeparationReport};
 use crate::world::Voxel;
@@ -31,12 +31,16 @@ pub struct CompiledPlan {
     pub makespan_s: f64,
     /// Period of the `trajectory` samples, seconds.
     pub setpoint_period_s: f64,
+    /// The flight's legs (takeoff, formations and stages, landing), with each leg's
+    /// last step, hold, makespan and lower bound.
+    pub legs: Vec<PlanLeg>,
     /// Every drone's plan and samples, in mission order.
     pub drones: Vec<CompiledDrone>,
     /// The Temporal Plan Graph's events per drone, with their cross-drone
     /// predecessors and slack: what a flight executor gates each drone on.
     pub execution: ExecutionPlan,
-    /// What the independent checker measured on `trajectory`.
+    /// What the independent checker measured on the whole flight: `trajectory` with
+    /// the climb from each pad before it and the touchdown after it.
     pub check: SeparationReport,
 }
 
@@ -47,11 +51,16 @@ pub struct CompiledDrone {
     pub id: String,
     /// The name of its group.
     pub group: String,
-    /// The goal assigned to it.
+    /// The ground cell `[x, y]` it takes off from.
+    pub pad: [i32; 2],
+    /// Where its path ends: the pad-layer cell it lands from.
     pub goal: Voxel,
     /// Its voxel at every plan step, `makespan_steps + 1` entries.
     pub path: Vec<Voxel>,
-    /// `[t_s, x_m, y_m, z_m]` in ENU metres at the setpoint period: exactly what is streamed.
+    /// `[t_s, x_m, y_m, z_m]` in ENU metres at the setpoint period, from above the pad
+    /// to above the landing pad: exactly what is streamed on the plan clock (the
+    /// climb from the pad before it and the touchdown after it are checked with the
+    /// rest, see `check`).
     pub trajectory: Vec<[f64; 4]>,
 }
 
@@ -86,6 +95,7 @@ impl CompiledPlan {
                     path: d.path.clone(),
                 })
                 .collect(),
+            legs: self.legs.clone(),
         }
     }
 }
@@ -99,7 +109,10 @@ pub fn compile(mission: &Mission, solution: &Solution) -> Result<CompiledPlan, C
     let execution = schedule::execution_plan(&tpg, &schedule);
     let trajectories = crate::trajectory::from_schedule(&schedule);
     let samples = trajectories.sample(mission.link.setpoint_rate_hz);
-    let check = verify::check(&samples, &mission.limits)?;
+    // The checker sees the whole flight, from the ground up and back down.
+    let l = &mission.limits;
+    let flight = trajectories.pad_to_pad(l.max_speed_mps, l.max_accel_mps2);
+    let check = verify::check(&flight.sample(mission.link.setpoint_rate_hz), l)?;
     if !check.ok() {
         return Err(CompileError::Limits(Box::new(name_drones(check, plan))));
     }
@@ -111,6 +124,7 @@ pub fn compile(mission: &Mission, solution: &Solution) -> Result<CompiledPlan, C
         lower_bound_steps: stats.initial_lower_bound_steps,
         makespan_s: trajectories.makespan_s,
         setpoint_period_s: 1.0 / mission.link.setpoint_rate_hz,
+        legs: plan.legs.clone(),
         drones: compiled_drones(plan, samples),
         execution,
         check,
@@ -135,6 +149,7 @@ pub fn compiled_drones(plan: &DiscretePlan, samples: Vec<Vec<[f64; 4]>>) -> Vec<
         .map(|(d, trajectory)| CompiledDrone {
             id: d.id.clone(),
             group: d.group.clone(),
+            pad: d.path.first().map_or([0, 0], |v| [v.x, v.y]),
             goal: d.goal,
             path: d.path.clone(),
             trajectory,

@@ -27,13 +27,11 @@ pub struct Outcome {
     pub completed: bool,
     /// Plan clock when every drone was at its goal, seconds (`None` if never).
     pub executed_makespan_s: Option<f64>,
-    /// Smallest telemetry separation during plan execution, metres (∞ if none).
+    /// Smallest telemetry separation over the whole flight, metres (∞ if none).
     pub min_separation_m: f64,
-    /// The two drones that came closest, and when (seconds on the plan clock).
+    /// The two drones that came closest, and when (seconds since the first arm).
     pub closest_pair: Option<(String, String, f64)>,
-    /// Smallest separation while taking off or landing, metres (∞ if none).
-    pub min_separation_takeoff_landing_m: f64,
-    /// Highest telemetry speed during plan execution, metres per second.
+    /// Highest telemetry speed over the whole flight, metres per second.
     pub max_speed_mps: f64,
     /// Everything notable, in order, for the flight log.
     pub events: Vec<LogEvent>,
@@ -92,7 +90,7 @@ pub async fn run(
         for d in flight.drones.iter() {
             d.stream_setpoint().await;
         }
-        flight.measure(t_exec_s);
+        flight.measure(since_arm_s);
         flight.start_plan_clock(now, since_arm_s);
         flight.end_plan(now, t_exec_s, since_arm_s);
         if flight.landing_started {
@@ -123,7 +121,6 @@ impl<'a> Flight<'a> {
             settings,
             out: Outcome {
                 min_separation_m: f64::INFINITY,
-                min_separation_takeoff_landing_m: f64::INFINITY,
                 ..Outcome::default()
             },
             execution_t0: None,
@@ -237,7 +234,7 @@ impl<'a> Flight<'a> {
         for d in self.drones.iter_mut() {
             d.start_plan();
         }
-        self.event(since_arm_s, "all drones at their start: executing the plan");
+        self.event(since_arm_s, super::log::PLAN_STARTED);
     }
 
     /// Ends plan execution once everyone is at the goal (or down, retired), the
@@ -308,38 +305,34 @@ impl<'a> Flight<'a> {
         }
     }
 
-    /// Separation and speed from telemetry.
-    fn measure(&mut self, t_exec_s: Option<f64>) {
+    /// Separation and speed from telemetry, over the whole flight: from the first arm
+    /// command to the last touchdown, on the ground and in the air (pads are apart by
+    /// a voxel, so drones standing on theirs never come close; one landing on another
+    /// would). A lost drone's last position is stale and is left out.
+    fn measure(&mut self, since_arm_s: f64) {
         let drones = &*self.drones;
         let out = &mut self.out;
-        let airborne: Vec<(usize, [f64; 3])> = drones
+        let known: Vec<(usize, [f64; 3])> = drones
             .iter()
             .enumerate()
-            .filter(|(_, d)| !matches!(d.phase(), Phase::Landed | Phase::EnterOffboard { .. }))
-            .filter_map(|(i, d)| d.position_m().filter(|p| p[2] > 0.1).map(|p| (i, p)))
+            .filter(|(_, d)| !matches!(d.phase(), Phase::Lost { .. }))
+            .filter_map(|(i, d)| d.position_m().map(|p| (i, p)))
             .collect();
-        let executing = t_exec_s.filter(|_| !self.landing_started);
-        for (k, (i, a)) in airborne.iter().enumerate() {
-            for (j, b) in &airborne[k + 1..] {
+        for (k, (i, a)) in known.iter().enumerate() {
+            for (j, b) in &known[k + 1..] {
                 let sep = super::path::distance_m(*a, *b);
-                if let Some(t_s) = executing {
-                    if sep < out.min_separation_m {
-                        out.min_separation_m = sep;
-                        out.closest_pair = Some((
-                            drones[*i].id().to_string(),
-                            drones[*j].id().to_string(),
-                            t_s,
-                        ));
-                    }
-                } else if sep < out.min_separation_takeoff_landing_m {
-                    out.min_separation_takeoff_landing_m = sep;
+                if sep < out.min_separation_m {
+                    out.min_separation_m = sep;
+                    out.closest_pair = Some((
+                        drones[*i].id().to_string(),
+                        drones[*j].id().to_string(),
+                        since_arm_s,
+                    ));
                 }
             }
         }
-        if executing.is_some() {
-            for d in drones {
-                out.max_speed_mps = out.max_speed_mps.max(d.speed_mps());
-            }
+        for d in drones {
+            out.max_speed_mps = out.max_speed_mps.max(d.speed_mps());
         }
     }
 

@@ -2,6 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The event that starts the plan clock: every drone hovers above its pad.
+pub const PLAN_STARTED: &str = "all drones above their pads: executing the plan";
+
 /// Written as JSON by `swarmctl fly --log`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct FlightLog {
@@ -19,30 +22,29 @@ pub struct FlightLog {
 /// mission's limits, and which drones left the plan.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Summary {
-    /// Every drone reached its goal and the swarm landed.
+    /// Every drone flew its plan to its pad and landed, and the measured separation
+    /// never fell below the safety distance.
     pub completed: bool,
+    /// The measured separation never fell below the safety distance.
+    #[serde(default)]
+    pub safety_held: bool,
     /// From the first arm command to the last drone landed (or the abort), seconds.
     pub duration_s: f64,
     /// The schedule's makespan: how long plan execution should take.
     pub planned_makespan_s: f64,
-    /// How long plan execution took (all drones at their start to all at their goal).
+    /// How long plan execution took (all drones above their pads to all above the
+    /// pads they land on).
     pub executed_makespan_s: Option<f64>,
-    /// Smallest distance between two drones during plan execution, from telemetry.
-    /// Omitted from the JSON (∞ in Rust) when no two drones were airborne then:
-    /// JSON has no infinity, and `null` would not read back as a number.
+    /// Smallest distance between two drones over the whole flight, pad to pad, from
+    /// telemetry. Omitted from the JSON (∞ in Rust) when no two drones were ever
+    /// heard from: JSON has no infinity, and `null` would not read back as a number.
     #[serde(default = "infinity", skip_serializing_if = "not_finite")]
     pub min_separation_m: f64,
-    /// The two drones that came closest, and when (seconds into plan execution).
+    /// The two drones that came closest, and when (seconds since the first arm).
     pub closest_pair: Option<(String, String, f64)>,
-    /// Smallest distance between two airborne drones during takeoff and landing,
-    /// which the plan does not cover (drones climb and descend vertically, so
-    /// drones whose start or goal voxels share a column come close here). Omitted
-    /// like `min_separation_m` when no two drones were airborne together.
-    #[serde(default = "infinity", skip_serializing_if = "not_finite")]
-    pub min_separation_takeoff_landing_m: f64,
     /// The mission's safety distance, to read `min_separation_m` against, metres.
     pub safety_distance_m: f64,
-    /// Highest speed reported by any drone's telemetry.
+    /// Highest speed reported by any drone's telemetry, over the whole flight.
     pub max_speed_mps: f64,
     /// The mission's speed limit, to read `max_speed_mps` against.
     pub speed_limit_mps: f64,
@@ -50,7 +52,8 @@ pub struct Summary {
     pub gating_waits: usize,
     /// Total time drones spent waiting at a closed gate, seconds.
     pub gating_wait_s: f64,
-    /// Largest final distance from a drone to its goal (before landing), metres.
+    /// Largest final distance from a drone to the pad-layer cell it lands from
+    /// (before touchdown), metres.
     pub max_final_distance_to_goal_m: f64,
     /// Drones given up for lost (nothing heard for `contingency::LOST_AFTER_S`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -124,7 +127,7 @@ fn separation_text(separation_m: f64) -> String {
     if separation_m.is_finite() {
         format!("{separation_m:.3} m")
     } else {
-        "none measured (never two drones airborne)".to_string()
+        "none measured (never two drones heard from)".to_string()
     }
 }
 
@@ -147,7 +150,7 @@ impl Summary {
                 self.planned_makespan_s
             ),
             format!(
-                "  min separation       {} during plan execution (safety distance {:.3} m){}",
+                "  min separation       {} pad to pad (safety distance {:.3} m){}",
                 separation_text(self.min_separation_m),
                 self.safety_distance_m,
                 self.closest_pair
@@ -155,8 +158,16 @@ impl Summary {
                     .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
             ),
             format!(
-                "  takeoff/landing      {} closest, vertical climbs and descents outside the plan",
-                separation_text(self.min_separation_takeoff_landing_m)
+                "  safety               {}",
+                if self.safety_held {
+                    "held".to_string()
+                } else {
+                    format!(
+                        "VIOLATED ({} < {:.3} m)",
+                        separation_text(self.min_separation_m),
+                        self.safety_distance_m
+                    )
+                }
             ),
             format!(
                 "  max speed            {:.2} m/s (limit {:.2} m/s)",
@@ -167,7 +178,7 @@ impl Summary {
                 self.gating_waits, self.gating_wait_s
             ),
             format!(
-                "  final goal distance  ≤ {:.3} m",
+                "  final pad distance   ≤ {:.3} m (before touchdown)",
                 self.max_final_distance_to_goal_m
             ),
         ];
@@ -191,12 +202,12 @@ mod tests {
     fn summary(min_separation_m: f64) -> Summary {
         Summary {
             completed: false,
+            safety_held: true,
             duration_s: 1.0,
             planned_makespan_s: 1.0,
             executed_makespan_s: None,
             min_separation_m,
             closest_pair: None,
-            min_separation_takeoff_landing_m: f64::INFINITY,
             safety_distance_m: 0.25,
             max_speed_mps: 0.0,
             speed_limit_mps: 1.0,

@@ -2,11 +2,11 @@
 //! held back at a TPG gate until the events it depends on are seen in telemetry.
 //!
 //! ```text
-//! connect ─► pre-flight (all) ─► arm (all or none) ─► take off to start voxels
+//! connect ─► pre-flight (all) ─► arm (all or none) ─► climb to the pad layer
 //!   ─► execute: per drone, follow its route; stop short of a closed gate ─► land
 //! ```
 //!
-//! The plan clock starts once every drone hovers at its start voxel. From then on
+//! The plan clock starts once every drone hovers above its pad. From then on
 //! each drone runs its own rest-to-rest runs (never before their scheduled start,
 //! never past a gate whose predecessors are unobserved), so slack absorbs a late
 //! drone without replanning and only the drones that depend on it wait.

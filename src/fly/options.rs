@@ -21,7 +21,7 @@ pub struct FlyOptions {
     pub vehicles: Vec<VehicleLink>,
     /// How long pre-flight waits for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
-    /// Horizontal distance allowed between a vehicle and the point below its start voxel.
+    /// Horizontal distance allowed between a vehicle and its pad.
     pub start_tolerance_m: f64,
     /// Telemetry this close to a commanded rest point counts as arrived.
     pub settle_tolerance_m: f64,

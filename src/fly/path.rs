@@ -68,7 +68,7 @@ pub struct RouteEvent {
 pub struct Route {
     /// The drone's mission id.
     pub id: String,
-    /// The start voxel centre, where takeoff ends.
+    /// The pad-layer cell above the drone's pad, where takeoff ends and the route begins.
     pub start_m: [f64; 3],
     /// The straight runs, in order; empty for a drone that stays put.
     pub runs: Vec<RouteRun>,

@@ -93,7 +93,7 @@ pub enum Phase {
     },
     /// ArduPilot: takeoff accepted, climbing to the start altitude.
     AwaitAltitude,
-    /// Hovering at the start voxel until everyone is.
+    /// Hovering above its pad until everyone is.
     AtStart,
     /// Following the plan.
     Flying,

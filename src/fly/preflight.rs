@@ -13,7 +13,7 @@ use tokio::task::JoinSet;
 pub struct PreflightLimits {
     /// How long to wait for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
-    /// Horizontal distance allowed between a vehicle and the ground point below its start voxel.
+    /// Horizontal distance allowed between a vehicle and its pad.
     pub start_tolerance_m: f64,
     /// Rate at which position telemetry is requested.
     pub position_rate_hz: f64,
@@ -68,7 +68,7 @@ async fn check_one(
     // No position yet makes the distance NaN, which must fail too.
     if horizontal_m.is_nan() || horizontal_m > limits.start_tolerance_m {
         return Err(format!(
-            "{id}: at ENU ({:.2}, {:.2}, {:.2}) m, {horizontal_m:.2} m from below its start voxel \
+            "{id}: at ENU ({:.2}, {:.2}, {:.2}) m, {horizontal_m:.2} m from its pad \
              ({:.2}, {:.2}); tolerance {:.2} m",
             position[0],
             position[1],

@@ -63,14 +63,17 @@ pub fn drone_logs(
 pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
     let drones = flown.drones;
     let logs = flown.logs;
+    // Held also when nothing was measured (∞): no two drones were ever heard from.
+    let safety_held = outcome.min_separation_m >= flown.limits.safety_distance_m;
+    let all_landed = drones.iter().all(|d| matches!(d.phase(), Phase::Landed));
     Summary {
-        completed: outcome.completed,
+        completed: outcome.completed && all_landed && safety_held,
+        safety_held,
         duration_s: flown.duration_s,
         planned_makespan_s: flown.planned_makespan_s,
         executed_makespan_s: outcome.executed_makespan_s,
         min_separation_m: outcome.min_separation_m,
         closest_pair: outcome.closest_pair.clone(),
-        min_separation_takeoff_landing_m: outcome.min_separation_takeoff_landing_m,
         safety_distance_m: flown.limits.safety_distance_m,
         max_speed_mps: outcome.max_speed_mps,
         speed_limit_mps: flown.limits.max_speed_mps,

@@ -29,6 +29,8 @@ pub(crate) fn mission_file(
         limits: default_limits(),
         link: LinkSpec::default(),
         groups,
+        stages: Vec::new(),
+        landing: None,
     }
 }
 
@@ -38,6 +40,7 @@ pub(crate) fn world_spec(dimensions: [i64; 3], obstacles: Vec<ObstacleSpec>) -> 
         dimensions,
         voxel_size_m: 1.0,
         origin_m: [0.0, 0.0, 1.0],
+        pad_height_m: None,
         obstacles,
     }
 }

@@ -62,7 +62,8 @@ pub fn parse_libmrp(text: &str, file: &Path) -> Result<MissionFile, ImportError>
     for agent in instance.agents {
         let drone = DroneSpec {
             id: agent.name.clone(),
-            start: [agent.start[0], agent.start[1], 0],
+            start: Some([agent.start[0], agent.start[1], 0]),
+            pad: None,
             endpoint: None,
             system_id: None,
         };

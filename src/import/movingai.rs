@@ -171,7 +171,8 @@ pub(crate) fn load_scenario(
             name: format!("agent{i}"),
             drones: vec![DroneSpec {
                 id: format!("a{i}"),
-                start: to_voxel(row.start),
+                start: Some(to_voxel(row.start)),
+                pad: None,
                 endpoint: None,
                 system_id: None,
             }],

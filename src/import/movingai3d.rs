@@ -116,7 +116,8 @@ pub(crate) fn load_scenario(
             name: format!("agent{i}"),
             drones: vec![DroneSpec {
                 id: format!("a{i}"),
-                start,
+                start: Some(start),
+                pad: None,
                 endpoint: None,
                 system_id: None,
             }],

@@ -23,7 +23,7 @@ pub fn load(path: &Path) -> Result<Mission, MissionError> {
 /// use swarmctl::mission;
 /// let yaml = "
 /// name: hop
-/// world: { dimensions: [2, 1, 1], voxel_size_m: 1.0 }
+/// world: { dimensions: [2, 1, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
 /// limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }
 /// groups:
 ///   - { name: solo, drones: [{ id: a, start: [0, 0, 0] }], goals: [[1, 0, 0]] }

@@ -1,6 +1,7 @@
 //! Mission files: the schema users write, its validation and a commented template.
 
 mod error;
+mod legs;
 mod load;
 pub mod schema;
 mod template;
@@ -9,9 +10,10 @@ mod validate;
 mod write;
 
 pub use error::{MissionError, Problem};
+pub use legs::{Leg, LegKind, Targets};
 pub use load::{from_yaml, load, parse_yaml};
-pub use schema::{Autopilot, MissionFile, SigningSpec};
+pub use schema::{Autopilot, Landing, MissionFile, SigningSpec};
 pub use template::TEMPLATE;
-pub use types::{Drone, Group, KeySource, Limits, LinkSettings, Mission};
+pub use types::{Drone, Group, KeySource, Limits, LinkSettings, Mission, PadSource, Stage};
 pub use validate::{MAX_DIMENSION, MAX_VOXELS, validate};
 pub use write::to_yaml;

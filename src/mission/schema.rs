@@ -28,6 +28,51 @@ pub struct MissionFile {
     pub link: LinkSpec,
     /// The drones, in groups of interchangeable ones that share their goals.
     pub groups: Vec<GroupSpec>,
+    /// Formations flown after the groups' `goals` (the first formation), in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<StageSpec>,
+    /// Where the drones land once the last formation is flown; `group_pads` by default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub landing: Option<Landing>,
+}
+
+/// One formation after the first: every group named takes its `goals`, the others
+/// hold where they are.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StageSpec {
+    /// Names the stage in messages, plan files and recordings; unique and not blank.
+    pub name: String,
+    /// Seconds every drone holds this formation once the whole swarm has reached it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_s: Option<f64>,
+    /// Per group name, at least one free voxel per drone of that group; none used twice
+    /// within the stage.
+    pub goals: std::collections::BTreeMap<String, Vec<RawVoxel>>,
+}
+
+/// Where drones land at the end of the flight.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Landing {
+    /// Each drone lands on a free pad of its own group's pads (the planner chooses).
+    #[default]
+    GroupPads,
+    /// Each drone lands on the pad it took off from.
+    OwnPad,
+    /// Each drone descends straight down from its last goal (no two last goals may
+    /// share a column, and every such column must be free).
+    BelowGoal,
+}
+
+impl std::fmt::Display for Landing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Landing::GroupPads => "group_pads",
+            Landing::OwnPad => "own_pad",
+            Landing::BelowGoal => "below_goal",
+        })
+    }
 }
 
 /// The world as written: a box of equal cubic voxels placed in the ENU frame.
@@ -38,10 +83,16 @@ pub struct WorldSpec {
     pub dimensions: [i64; 3],
     /// Edge length of one voxel, metres: the distance of one plan step.
     pub voxel_size_m: f64,
-    /// ENU position of the centre of voxel [0, 0, 0], metres; z is the height above
-    /// the take-off ground, so raising it lifts the lowest voxels clear of it.
+    /// ENU position of the centre of voxel [0, 0, 0], metres; z is the height of
+    /// layer 0 above the ground the pads stand on. The pad layer sits below layer 0.
     #[serde(default)]
     pub origin_m: [f64; 3],
+    /// Height of the pad layer above the ground, metres: where drones hover over
+    /// their pads after takeoff and before touchdown. By default one voxel below
+    /// layer 0 when that leaves at least 0.5 m above ground, else half of layer 0's
+    /// height. It must be above 0 and at least the safety distance below layer 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pad_height_m: Option<f64>,
     /// Voxels no drone may enter; none by default.
     #[serde(default)]
     pub obstacles: Vec<ObstacleSpec>,
@@ -193,7 +244,8 @@ pub struct GroupSpec {
     pub name: String,
     /// At least one drone.
     pub drones: Vec<DroneSpec>,
-    /// Exactly one free voxel per drone; any drone of the group may take any of them.
+    /// At least one free voxel per drone (extra ones are spare slots); any drone of
+    /// the group may take any of them. The group's first formation.
     pub goals: Vec<RawVoxel>,
 }
 
@@ -204,8 +256,15 @@ pub struct DroneSpec {
     /// Unique within the mission; letters, digits, '-', '_' and '.', so it can be
     /// written in command-line flags and file names unquoted.
     pub id: String,
-    /// The free voxel the drone starts in; no two drones share one.
-    pub start: RawVoxel,
+    /// The free voxel the drone takes off to before the first formation; no two drones
+    /// share one. Without it the drone flies from its pad straight to the formation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<RawVoxel>,
+    /// The ground cell `[x, y]` the drone stands on, in the world's voxel x/y
+    /// coordinates (outside `0..dimensions` for a launch area beside the world).
+    /// By default the cell below its start, or the nearest cell no other pad takes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pad: Option<[i64; 2]>,
     /// MAVLink address, e.g. `udpout:127.0.0.1:14541`; none means the bundled simulator.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub endpoint: Option<String>,

@@ -1,6 +1,6 @@
 //! A validated mission: every field checked, coordinates inside the world.
 
-use super::schema::Autopilot;
+use super::schema::{Autopilot, Landing};
 use crate::world::{Voxel, VoxelGrid};
 use serde::{Deserialize, Serialize};
 
@@ -11,15 +11,57 @@ pub struct Mission {
     pub name: String,
     /// Free text from the file, carried along for people.
     pub description: Option<String>,
-    /// The voxel world with its obstacles blocked.
+    /// The voxel world with its obstacles blocked, as written (`0..dimensions`).
     pub world: VoxelGrid,
+    /// Where the drones fly, pad to pad: the world, the pad layer below it (`z = -1`,
+    /// its centres at the pads' hover height) reaching sideways over every pad, in the
+    /// world's own coordinates. The planner and everything after it work in this grid.
+    pub airspace: VoxelGrid,
     /// Kinematic and safety limits every trajectory keeps.
     pub limits: Limits,
     /// How the vehicles are driven over MAVLink.
     pub link: LinkSettings,
-    /// At least one group; every drone has a free, unshared start and can reach a
-    /// goal of its group.
+    /// At least one group; every drone has its own pad and can reach a goal of its
+    /// group.
     pub groups: Vec<Group>,
+    /// Formations flown after the groups' goals, in order.
+    pub stages: Vec<Stage>,
+    /// Where the drones land at the end.
+    pub landing: Landing,
+}
+
+/// One formation after the groups' first one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stage {
+    /// Unique among the stages, never blank.
+    pub name: String,
+    /// Seconds the swarm holds the formation once every drone has reached it.
+    pub hold_s: f64,
+    /// Per group, in mission order: its goals in this stage (at least one per drone),
+    /// or `None` when the stage does not name the group (it holds where it is).
+    pub goals: Vec<Option<Vec<Voxel>>>,
+}
+
+/// How a drone's pad was chosen, for the pad table operators place drones by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PadSource {
+    /// Written in the mission file.
+    Given,
+    /// The cell below the drone's start (the default when no other pad takes it).
+    BelowStart,
+    /// Chosen by swarmctl: the nearest cell no other pad takes.
+    Assigned,
+}
+
+impl std::fmt::Display for PadSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            PadSource::Given => "given",
+            PadSource::BelowStart => "below start",
+            PadSource::Assigned => "assigned",
+        })
+    }
 }
 
 impl Mission {
@@ -33,6 +75,19 @@ impl Mission {
     /// How many drones fly, over all groups.
     pub fn drone_count(&self) -> usize {
         self.groups.iter().map(|g| g.drones.len()).sum()
+    }
+
+    /// The pad layer's hover height above the ground, metres.
+    pub fn pad_height_m(&self) -> f64 {
+        self.airspace
+            .pad_layer_z_m()
+            .unwrap_or(self.world.origin_m()[2] - self.world.voxel_size_m())
+    }
+
+    /// Where a drone stands on its pad, ENU metres (on the ground, z = 0).
+    pub fn pad_ground_m(&self, drone: &Drone) -> [f64; 3] {
+        let c = self.airspace.center_m(drone.pad_voxel());
+        [c.x, c.y, 0.0]
     }
 }
 
@@ -77,8 +132,22 @@ pub struct Group {
     pub name: String,
     /// At least one drone.
     pub drones: Vec<Drone>,
-    /// As many as drones; any drone of the group may take any of them.
+    /// At least as many as drones; any drone of the group may take any of them.
     pub goals: Vec<Voxel>,
+}
+
+impl Group {
+    /// Every drone has a start (validation allows all or none within a group).
+    pub fn has_starts(&self) -> bool {
+        self.drones.iter().all(|d| d.start.is_some())
+    }
+}
+
+impl Drone {
+    /// The pad-layer cell above the drone's pad: where it hovers after takeoff.
+    pub fn pad_voxel(&self) -> Voxel {
+        Voxel::new(self.pad[0], self.pad[1], -1)
+    }
 }
 
 /// One drone of a validated mission.
@@ -87,8 +156,13 @@ pub struct Drone {
     /// Unique within the mission; letters, digits, '-', '_' and '.' only, so it can
     /// be written in command-line flags and file names unquoted.
     pub id: String,
-    /// A free voxel no other drone starts in; the drone takes off to it.
-    pub start: Voxel,
+    /// A free voxel no other drone starts in, flown to before the first formation;
+    /// `None` flies from the pad straight to the formation.
+    pub start: Option<Voxel>,
+    /// The ground cell `[x, y]` the drone stands on; no two drones share one.
+    pub pad: [i32; 2],
+    /// How the pad was chosen.
+    pub pad_source: PadSource,
     /// MAVLink address, e.g. `udpout:127.0.0.1:14541`; `None` means the bundled
     /// simulator.
     pub endpoint: Option<String>,

@@ -33,6 +33,9 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
     writeln!(out, "  dimensions: {}", voxel(world.dimensions))?;
     writeln!(out, "  voxel_size_m: {:?}", world.voxel_size_m)?;
     writeln!(out, "  origin_m: {:?}", world.origin_m)?;
+    if let Some(h) = world.pad_height_m {
+        writeln!(out, "  pad_height_m: {h:?}")?;
+    }
     if world.obstacles.is_empty() {
         writeln!(out, "  obstacles: []")?;
     } else {
@@ -73,12 +76,13 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
         writeln!(out, "  - name: {}", quoted(&group.name))?;
         writeln!(out, "    drones:")?;
         for d in &group.drones {
-            write!(
-                out,
-                "      - {{ id: {}, start: {}",
-                quoted(&d.id),
-                voxel(d.start)
-            )?;
+            write!(out, "      - {{ id: {}", quoted(&d.id))?;
+            if let Some(start) = d.start {
+                write!(out, ", start: {}", voxel(start))?;
+            }
+            if let Some([x, y]) = d.pad {
+                write!(out, ", pad: [{x}, {y}]")?;
+            }
             if let Some(endpoint) = &d.endpoint {
                 write!(out, ", endpoint: {}", quoted(endpoint))?;
             }
@@ -89,6 +93,23 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
         }
         let goals: Vec<String> = group.goals.iter().map(|&g| voxel(g)).collect();
         writeln!(out, "    goals: [{}]", goals.join(", "))?;
+    }
+    if !file.stages.is_empty() {
+        writeln!(out, "stages:")?;
+        for stage in &file.stages {
+            writeln!(out, "  - name: {}", quoted(&stage.name))?;
+            if let Some(hold_s) = stage.hold_s {
+                writeln!(out, "    hold_s: {hold_s:?}")?;
+            }
+            writeln!(out, "    goals:")?;
+            for (group, goals) in &stage.goals {
+                let goals: Vec<String> = goals.iter().map(|&g| voxel(g)).collect();
+                writeln!(out, "      {}: [{}]", quoted(group), goals.join(", "))?;
+            }
+        }
+    }
+    if let Some(landing) = file.landing {
+        writeln!(out, "landing: {landing}")?;
     }
     Ok(())
 }

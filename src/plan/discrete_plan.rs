@@ -1,9 +1,11 @@
 //! The planner's output: one voxel path per drone on a shared clock of unit steps.
 
+use crate::mission::LegKind;
 use crate::world::Voxel;
 use serde::{Deserialize, Serialize};
 
-/// A solution to a TAPF instance: one path per drone, all of equal length.
+/// A whole flight's plan, pad to pad: one path per drone, all of equal length, made
+/// of legs flown one after the other.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DiscretePlan {
     /// The step at which the last drone arrives for good.
@@ -12,6 +14,27 @@ pub struct DiscretePlan {
     pub sum_of_costs_steps: u64,
     /// One entry per drone, in mission order (group by group, file order within).
     pub drones: Vec<DronePlan>,
+    /// The legs in flight order; leg `k` spans steps from the previous leg's
+    /// `end_step` (0 for the first) to its own.
+    pub legs: Vec<PlanLeg>,
+}
+
+/// One leg of a plan: takeoff, a formation, landing.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlanLeg {
+    /// `takeoff`, `formation`, a stage's name, or `landing`.
+    pub name: String,
+    /// What the leg is for.
+    pub kind: LegKind,
+    /// The step at which the leg ends: every drone is at its leg target from then
+    /// until the next leg begins.
+    pub end_step: u32,
+    /// Seconds every drone holds at the leg's end once the whole swarm is there.
+    pub hold_s: f64,
+    /// The leg's own makespan, steps.
+    pub makespan_steps: u32,
+    /// The leg's makespan lower bound (bottleneck assignment), steps.
+    pub lower_bound_steps: u32,
 }
 
 /// One drone's assignment and path.
@@ -21,10 +44,10 @@ pub struct DronePlan {
     pub id: String,
     /// The name of the drone's group.
     pub group: String,
-    /// The goal of its group assigned to this drone (the path's last voxel).
+    /// Where its path ends: the pad-layer cell it lands from.
     pub goal: Voxel,
-    /// The voxel at every step from 0 to `makespan_steps` inclusive; the goal is
-    /// repeated once reached.
+    /// The voxel at every step from 0 (above its pad) to `makespan_steps` inclusive;
+    /// the last voxel is repeated once reached.
     pub path: Vec<Voxel>,
 }
 

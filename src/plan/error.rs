@@ -29,6 +29,14 @@ pub enum PlanError {
     /// Every branch of the conflict tree was closed: the instance has no plan.
     #[error("the conflict tree was exhausted without a plan")]
     NoSolution,
+    /// Planning one leg of the flight failed.
+    #[error("leg {leg:?}: {source}")]
+    Leg {
+        /// The leg's name (`takeoff`, `formation`, a stage's name, `landing`).
+        leg: String,
+        /// Why it failed.
+        source: Box<PlanError>,
+    },
     /// A planner invariant broke; a bug, reported instead of panicking.
     #[error("internal planner error: {0}")]
     Internal(&'static str),

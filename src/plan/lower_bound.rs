@@ -1,21 +1,22 @@
 //! A makespan lower bound that ignores collisions between drones.
 
 use super::matching::maximum_matching;
-use crate::mission::{Group, Mission};
-use crate::world::{UNREACHABLE, VoxelGrid};
+use crate::mission::Mission;
+use crate::world::{UNREACHABLE, Voxel, VoxelGrid};
 
-/// The least makespan any plan for `mission` can have, in steps.
+/// The least makespan the first formation (starts to goals, in the mission's world,
+/// without pads) can have, in steps: what the TAPF core is measured against.
 ///
 /// Per group, the bottleneck assignment: the smallest `T` such that every drone can be
 /// given a distinct goal at most `T` moves away (BFS distance, other drones ignored).
 /// Any valid plan is such an assignment, so the bound never exceeds the optimum.
-/// Returns `None` when some group has no complete assignment at all.
+/// Returns `None` when some group has no complete assignment at all, or no starts.
 ///
 /// ```
 /// use swarmctl::{mission, plan};
 /// let m = mission::from_yaml("
 /// name: lb
-/// world: { dimensions: [5, 1, 1], voxel_size_m: 1.0 }
+/// world: { dimensions: [5, 1, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
 /// limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }
 /// groups:
 ///   - { name: g, drones: [{ id: a, start: [0, 0, 0] }, { id: b, start: [1, 0, 0] }],
@@ -24,23 +25,18 @@ use crate::world::{UNREACHABLE, VoxelGrid};
 /// assert_eq!(plan::makespan_lower_bound(&m), Some(3));
 /// ```
 pub fn makespan_lower_bound(mission: &Mission) -> Option<u32> {
-    mission
-        .groups
-        .iter()
-        .map(|g| group_lower_bound(&mission.world, g))
-        .try_fold(0, |acc, lb| lb.map(|lb| acc.max(lb)))
+    mission.groups.iter().try_fold(0, |acc, g| {
+        let starts: Option<Vec<Voxel>> = g.drones.iter().map(|d| d.start).collect();
+        group_lower_bound(&mission.world, &starts?, &g.goals).map(|lb| acc.max(lb))
+    })
 }
 
-/// The bottleneck assignment value of one group (see [`makespan_lower_bound`]).
-pub fn group_lower_bound(world: &VoxelGrid, group: &Group) -> Option<u32> {
-    let starts: Vec<usize> = group
-        .drones
-        .iter()
-        .filter_map(|d| world.cell(d.start))
-        .collect();
+/// The bottleneck assignment value of drones at `starts` onto `goals` in `world`
+/// (see [`makespan_lower_bound`]).
+pub fn group_lower_bound(world: &VoxelGrid, starts: &[Voxel], goals: &[Voxel]) -> Option<u32> {
+    let starts: Vec<usize> = starts.iter().filter_map(|&v| world.cell(v)).collect();
     // distance[goal][drone]: one BFS per goal.
-    let distance: Vec<Vec<u32>> = group
-        .goals
+    let distance: Vec<Vec<u32>> = goals
         .iter()
         .filter_map(|&g| world.cell(g))
         .map(|g| {

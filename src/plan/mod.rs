@@ -1,8 +1,10 @@
 //! Target assignment and path finding (TAPF): one collision-free voxel path per drone,
 //! each group's goals assigned to its drones, with the least possible makespan.
 //!
-//! [`solve`] runs CBM: a conflict tree over groups whose low level routes one group at
-//! a time as a flow on a time-expanded network. [`validate_plan`] checks any plan
+//! [`solve_tapf`] runs CBM: a conflict tree over groups whose low level routes one
+//! group at a time as a flow on a time-expanded network. [`solve`] plans a whole
+//! flight pad to pad as the mission's legs (takeoff, formations, landing), one CBM
+//! instance each, in the mission's airspace. [`validate_plan`] checks any plan
 //! against its mission and shares no code with the solver. Reading a plan file back
 //! (`swarmctl fly --plan`) is `compiled::file`'s job, above this module.
 
@@ -25,11 +27,11 @@ mod space;
 mod stats;
 mod validator;
 
-pub use discrete_plan::{DiscretePlan, DronePlan};
+pub use discrete_plan::{DiscretePlan, DronePlan, PlanLeg};
 pub use error::PlanError;
 pub use lower_bound::{group_lower_bound, makespan_lower_bound};
 pub use matching::maximum_matching;
 pub use options::PlanOptions;
-pub use solve::{Solution, solve, solve_with_progress};
-pub use stats::{PlanStats, Progress};
+pub use solve::{Solution, TapfGroup, TapfSolution, solve, solve_tapf, solve_with_progress};
+pub use stats::{LegStats, PlanStats, Progress};
 pub use validator::{PlanViolation, validate_plan};

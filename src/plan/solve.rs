@@ -1,68 +1,225 @@
-//! The planner's entry point: from a mission to its plan and the search's figures.
+//! The planner's entry points: a whole flight leg by leg ([`solve`]), or one TAPF
+//! instance on any grid ([`solve_tapf`]), with the search's figures.
 
 use super::cbm::{Search, arrival_step};
-use super::discrete_plan::{DiscretePlan, DronePlan};
+use super::discrete_plan::{DiscretePlan, DronePlan, PlanLeg};
 use super::error::PlanError;
 use super::lower_bound::group_lower_bound;
 use super::network::GroupCells;
 use super::options::PlanOptions;
 use super::space::Space;
 use super::stats::{PlanStats, Progress};
-use crate::mission::Mission;
+use crate::mission::{Mission, Targets};
+use crate::world::{Voxel, VoxelGrid};
 use std::time::Instant;
 
 /// A plan with the figures that go with it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Solution {
-    /// One path per drone, makespan-optimal.
+    /// One path per drone, pad to pad, each leg makespan-optimal.
     pub plan: DiscretePlan,
-    /// How the search went: bounds, node counts, time.
+    /// How the search went: bounds, node counts, time, per leg and in total.
     pub stats: PlanStats,
 }
 
-/// Plans `mission` makespan-optimally (see [`solve_with_progress`]).
+/// Interchangeable drones of one TAPF instance: any of them may take any goal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TapfGroup {
+    /// Where each drone is at step 0.
+    pub starts: Vec<Voxel>,
+    /// At least one goal per drone.
+    pub goals: Vec<Voxel>,
+}
+
+/// A makespan-optimal solution of one TAPF instance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TapfSolution {
+    /// Per group, per drone (in `starts` order): its voxel at every step from 0 to
+    /// `makespan_steps`.
+    pub paths: Vec<Vec<Vec<Voxel>>>,
+    /// The step at which the last drone arrives for good.
+    pub makespan_steps: u32,
+    /// The search's figures.
+    pub stats: PlanStats,
+}
+
+/// Plans `mission` pad to pad (see [`solve_with_progress`]).
 ///
 /// ```
 /// use swarmctl::{mission, plan};
 /// let m = mission::from_yaml("
 /// name: pass
-/// world: { dimensions: [5, 1, 2], voxel_size_m: 1.0,
-///          obstacles: [{ min: [0, 0, 1], max: [1, 0, 1] }, { min: [3, 0, 1], max: [4, 0, 1] }] }
+/// world: { dimensions: [5, 1, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
 /// limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }
 /// groups:
 ///   - { name: one, drones: [{ id: r1, start: [0, 0, 0] }], goals: [[4, 0, 0]] }
-///   - { name: two, drones: [{ id: r2, start: [1, 0, 0] }], goals: [[3, 0, 0]] }
 /// ", "pass.yaml".as_ref()).unwrap();
 /// let solution = plan::solve(&m, &plan::PlanOptions::default()).unwrap();
-/// assert_eq!(solution.plan.makespan_steps, 4); // r2 ducks into the side cell
+/// // Up from the pad, along the world, down to the pad below the goal... and back:
+/// // landing is on the group's pads, here the one r1 took off from.
+/// let legs: Vec<u32> = solution.plan.legs.iter().map(|l| l.makespan_steps).collect();
+/// assert_eq!(legs, vec![1, 4, 5]);
 /// ```
 pub fn solve(mission: &Mission, options: &PlanOptions) -> Result<Solution, PlanError> {
     solve_with_progress(mission, options, &mut |_| {})
 }
 
-/// Plans `mission`: CBM over its groups, deterministic for `options.seed`, calling
-/// `progress` a few times a second while the conflict tree grows.
+/// Plans `mission` leg by leg in its airspace: takeoff from the pads, each formation,
+/// landing; every leg makespan-optimal with CBM given where the previous one left
+/// the drones. Deterministic for `options.seed`; `progress` is called a few times a
+/// second while a conflict tree grows. The deadline covers all legs together.
 pub fn solve_with_progress(
     mission: &Mission,
     options: &PlanOptions,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Solution, PlanError> {
     let started = Instant::now();
-    let world = &mission.world;
-    let space = Space::new(world, options.seed);
-    let compact = |v| world.cell(v).map(|c| space.compact(c));
-    let mut groups = Vec::with_capacity(mission.groups.len());
-    let mut lower_bounds = Vec::with_capacity(mission.groups.len());
-    for g in &mission.groups {
-        let starts: Option<Vec<u32>> = g.drones.iter().map(|d| compact(d.start)).collect();
-        let goals: Option<Vec<u32>> = g.goals.iter().map(|&v| compact(v)).collect();
-        let (Some(starts), Some(goals)) = (starts, goals) else {
-            return Err(PlanError::Unreachable(g.name.clone()));
+    let grid = &mission.airspace;
+    let space = Space::new(grid, options.seed);
+    let mut at: Vec<Vec<Voxel>> = mission
+        .groups
+        .iter()
+        .map(|g| g.drones.iter().map(|d| d.pad_voxel()).collect())
+        .collect();
+    let mut paths: Vec<Vec<Vec<Voxel>>> = at
+        .iter()
+        .map(|g| g.iter().map(|&v| vec![v]).collect())
+        .collect();
+    let mut stats = PlanStats::default();
+    let mut legs = Vec::new();
+    for leg in mission.legs() {
+        // Shared targets make one CBM group; per-drone targets one group per drone.
+        let mut tapf = Vec::new();
+        let mut owners = Vec::new();
+        for (gi, targets) in leg.targets.iter().enumerate() {
+            match (targets, targets.per_drone(&at[gi])) {
+                (Targets::Any(goals), _) => {
+                    tapf.push(TapfGroup {
+                        starts: at[gi].clone(),
+                        goals: goals.clone(),
+                    });
+                    owners.push((gi, None));
+                }
+                (_, Some(own)) => {
+                    for (di, goal) in own.into_iter().enumerate() {
+                        tapf.push(TapfGroup {
+                            starts: vec![at[gi][di]],
+                            goals: vec![goal],
+                        });
+                        owners.push((gi, Some(di)));
+                    }
+                }
+                (_, None) => return Err(PlanError::Internal("leg targets without a voxel set")),
+            }
+        }
+        let remaining = options.deadline.saturating_sub(started.elapsed());
+        let leg_options = PlanOptions {
+            deadline: remaining,
+            ..options.clone()
         };
-        let lb =
-            group_lower_bound(world, g).ok_or_else(|| PlanError::Unreachable(g.name.clone()))?;
+        let solved = solve_in_space(grid, &space, &tapf, &leg_options, progress).map_err(|e| {
+            PlanError::Leg {
+                leg: leg.name.clone(),
+                source: Box::new(e),
+            }
+        })?;
+        for ((gi, di), group_paths) in owners.iter().zip(&solved.paths) {
+            let drones: Vec<usize> = match di {
+                Some(di) => vec![*di],
+                None => (0..at[*gi].len()).collect(),
+            };
+            for (&d, p) in drones.iter().zip(group_paths) {
+                paths[*gi][d].extend(p.iter().skip(1).copied());
+                at[*gi][d] = *p.last().unwrap_or(&at[*gi][d]);
+            }
+        }
+        let end_step = legs.last().map_or(0, |l: &PlanLeg| l.end_step) + solved.makespan_steps;
+        legs.push(PlanLeg {
+            name: leg.name.clone(),
+            kind: leg.kind,
+            end_step,
+            hold_s: leg.hold_s,
+            makespan_steps: solved.makespan_steps,
+            lower_bound_steps: solved.stats.initial_lower_bound_steps,
+        });
+        stats.add_leg(&leg.name, &solved.stats, solved.makespan_steps);
+    }
+    let makespan = legs.last().map_or(0, |l| l.end_step);
+    let mut drones = Vec::with_capacity(mission.drone_count());
+    let mut sum_of_costs = 0;
+    for (g, group_paths) in mission.groups.iter().zip(paths) {
+        for (d, path) in g.drones.iter().zip(group_paths) {
+            let plan = DronePlan {
+                id: d.id.clone(),
+                group: g.name.clone(),
+                goal: *path.last().unwrap_or(&d.pad_voxel()),
+                path,
+            };
+            sum_of_costs += u64::from(plan.arrival_step());
+            drones.push(plan);
+        }
+    }
+    debug_assert!(drones.iter().all(|d| d.path.len() == makespan as usize + 1));
+    stats.total_time = started.elapsed();
+    Ok(Solution {
+        plan: DiscretePlan {
+            makespan_steps: makespan,
+            sum_of_costs_steps: sum_of_costs,
+            drones,
+            legs,
+        },
+        stats,
+    })
+}
+
+/// Solves one TAPF instance on `grid`: CBM over `groups`, makespan-optimal.
+///
+/// ```
+/// use swarmctl::plan::{self, TapfGroup};
+/// use swarmctl::world::{Voxel, VoxelGrid};
+/// // A corridor with one side cell: r2 ducks into it to let r1 pass.
+/// let mut grid = VoxelGrid::new([5, 1, 2], 1.0, [0.0; 3]);
+/// for x in [0, 1, 3, 4] {
+///     grid.block(Voxel::new(x, 0, 1));
+/// }
+/// let groups = [
+///     TapfGroup { starts: vec![Voxel::new(0, 0, 0)], goals: vec![Voxel::new(4, 0, 0)] },
+///     TapfGroup { starts: vec![Voxel::new(1, 0, 0)], goals: vec![Voxel::new(3, 0, 0)] },
+/// ];
+/// let solution = plan::solve_tapf(&grid, &groups, &plan::PlanOptions::default()).unwrap();
+/// assert_eq!(solution.makespan_steps, 4);
+/// ```
+pub fn solve_tapf(
+    grid: &VoxelGrid,
+    groups: &[TapfGroup],
+    options: &PlanOptions,
+) -> Result<TapfSolution, PlanError> {
+    let space = Space::new(grid, options.seed);
+    solve_in_space(grid, &space, groups, options, &mut |_| {})
+}
+
+/// [`solve_tapf`] on a compact space built once for several instances.
+fn solve_in_space(
+    grid: &VoxelGrid,
+    space: &Space,
+    groups: &[TapfGroup],
+    options: &PlanOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<TapfSolution, PlanError> {
+    let started = Instant::now();
+    let compact = |v| grid.cell(v).map(|c| space.compact(c));
+    let mut cells = Vec::with_capacity(groups.len());
+    let mut lower_bounds = Vec::with_capacity(groups.len());
+    for (gi, g) in groups.iter().enumerate() {
+        let starts: Option<Vec<u32>> = g.starts.iter().map(|&v| compact(v)).collect();
+        let goals: Option<Vec<u32>> = g.goals.iter().map(|&v| compact(v)).collect();
+        let unreachable = || PlanError::Unreachable(format!("#{gi}"));
+        let (Some(starts), Some(goals)) = (starts, goals) else {
+            return Err(unreachable());
+        };
+        let lb = group_lower_bound(grid, &g.starts, &g.goals).ok_or_else(unreachable)?;
         lower_bounds.push(lb);
-        groups.push(GroupCells::new(&space, starts, &goals));
+        cells.push(GroupCells::new(space, starts, &goals));
     }
     let initial_lower_bound = lower_bounds.iter().copied().max().unwrap_or(0);
     // Drones can always wait out a finite set of constraints; this bound only guards
@@ -70,8 +227,8 @@ pub fn solve_with_progress(
     let max_horizon = initial_lower_bound + 2 * space.len() as u32 + 64;
     let deadline_at = started + options.deadline;
     let mut search = Search::new(
-        &space,
-        &groups,
+        space,
+        &cells,
         &lower_bounds,
         max_horizon,
         deadline_at,
@@ -81,31 +238,26 @@ pub fn solve_with_progress(
     search.stats.best_lower_bound_steps = initial_lower_bound;
     let routings = search.run(progress)?;
     let mut stats = search.stats;
-
     let makespan = routings.iter().map(|r| r.min_horizon).max().unwrap_or(0);
-    let mut drones = Vec::with_capacity(mission.drone_count());
-    let mut sum_of_costs = 0;
-    for (g, routing) in mission.groups.iter().zip(&routings) {
-        for (d, path) in g.drones.iter().zip(&routing.paths) {
-            let at = |t: usize| world.voxel(space.world_cell(path[t.min(path.len() - 1)]));
-            let path_voxels: Vec<_> = (0..=makespan as usize).map(at).collect();
-            sum_of_costs += arrival_step(path);
-            drones.push(DronePlan {
-                id: d.id.clone(),
-                group: g.name.clone(),
-                goal: at(path.len() - 1),
-                path: path_voxels,
-            });
-        }
-    }
+    let paths = routings
+        .iter()
+        .map(|routing| {
+            routing
+                .paths
+                .iter()
+                .map(|path| {
+                    let at = |t: usize| grid.voxel(space.world_cell(path[t.min(path.len() - 1)]));
+                    debug_assert!(arrival_step(path) <= u64::from(makespan));
+                    (0..=makespan as usize).map(at).collect()
+                })
+                .collect()
+        })
+        .collect();
     stats.best_lower_bound_steps = makespan;
     stats.total_time = started.elapsed();
-    Ok(Solution {
-        plan: DiscretePlan {
-            makespan_steps: makespan,
-            sum_of_costs_steps: sum_of_costs,
-            drones,
-        },
+    Ok(TapfSolution {
+        paths,
+        makespan_steps: makespan,
         stats,
     })
 }

@@ -25,6 +25,25 @@ pub struct PlanStats {
     /// `total_time_s`, seconds).
     #[serde(rename = "total_time_s", serialize_with = "as_seconds")]
     pub total_time: Duration,
+    /// One entry per leg of a whole flight (empty for a single TAPF instance).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub legs: Vec<LegStats>,
+}
+
+/// How one leg's search went.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+pub struct LegStats {
+    /// The leg's name.
+    pub name: String,
+    /// Its makespan, steps.
+    pub makespan_steps: u32,
+    /// Its lower bound before search, steps.
+    pub lower_bound_steps: u32,
+    /// Conflict-tree nodes expanded for it.
+    pub ct_nodes_expanded: u64,
+    /// Its planning time (serialised as `time_s`, seconds).
+    #[serde(rename = "time_s", serialize_with = "as_seconds")]
+    pub time: Duration,
 }
 
 fn as_seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
@@ -32,6 +51,25 @@ fn as_seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Erro
 }
 
 impl PlanStats {
+    /// Adds one leg's search to a whole flight's figures: counters and times add up,
+    /// bounds are the legs' sums (legs are flown one after the other).
+    pub fn add_leg(&mut self, name: &str, leg: &PlanStats, makespan_steps: u32) {
+        self.initial_lower_bound_steps += leg.initial_lower_bound_steps;
+        self.best_lower_bound_steps += leg.best_lower_bound_steps;
+        self.ct_nodes_expanded += leg.ct_nodes_expanded;
+        self.ct_nodes_generated += leg.ct_nodes_generated;
+        self.low_level_calls += leg.low_level_calls;
+        self.flow_augmentations += leg.flow_augmentations;
+        self.low_level_time += leg.low_level_time;
+        self.legs.push(LegStats {
+            name: name.to_string(),
+            makespan_steps,
+            lower_bound_steps: leg.initial_lower_bound_steps,
+            ct_nodes_expanded: leg.ct_nodes_expanded,
+            time: leg.total_time,
+        });
+    }
+
     /// Time spent in the conflict tree itself (conflict detection, bookkeeping).
     pub fn high_level_time(&self) -> Duration {
         self.total_time.saturating_sub(self.low_level_time)

@@ -38,8 +38,8 @@ pub enum PlanViolation {
         /// `makespan_steps + 1`.
         expected: usize,
     },
-    /// A path that does not start where the mission puts the drone.
-    #[error("drone {id:?}: path starts at {found} instead of its start {expected}")]
+    /// A path that does not start above the drone's pad.
+    #[error("drone {id:?}: path starts at {found} instead of above its pad, {expected}")]
     WrongStart {
         /// The drone.
         id: String,
@@ -48,25 +48,24 @@ pub enum PlanViolation {
         /// The path's first voxel.
         found: Voxel,
     },
-    /// A drone assigned a goal its group does not have.
-    #[error("drone {id:?}: goal {goal} is not a goal of group {group:?}")]
-    ForeignGoal {
+    /// The plan's legs are not the mission's (names, order, holds or steps).
+    #[error("the plan's legs do not match the mission's: {0}")]
+    Legs(String),
+    /// A drone not on a target of its leg when the leg ends.
+    #[error("drone {id:?}: at the end of leg {leg:?} (step {step}) it is at {found}, {expected}")]
+    MissesLegTarget {
         /// The drone.
         id: String,
-        /// Its group.
-        group: String,
-        /// The goal the plan assigns.
-        goal: Voxel,
+        /// The leg.
+        leg: String,
+        /// The leg's last step.
+        step: usize,
+        /// Where the drone is then.
+        found: Voxel,
+        /// What the leg asks, in words.
+        expected: String,
     },
-    /// Two drones of a group assigned the same goal.
-    #[error("goal {goal} of group {group:?} is assigned to more than one drone")]
-    GoalTwice {
-        /// The group.
-        group: String,
-        /// The goal assigned twice.
-        goal: Voxel,
-    },
-    /// A path that does not end at its drone's assigned goal.
+    /// A path that does not end where the plan says it does (`goal`).
     #[error("drone {id:?}: path ends at {found}, not at its goal {goal}")]
     MissesGoal {
         /// The drone.
@@ -160,20 +159,19 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
     let expected_len = plan.makespan_steps as usize + 1;
 
     let mut owners: HashMap<&str, Owner> = HashMap::new();
-    for group in &mission.groups {
-        for drone in &group.drones {
+    for (gi, group) in mission.groups.iter().enumerate() {
+        for (di, drone) in group.drones.iter().enumerate() {
             owners.insert(
                 &drone.id,
                 Owner {
                     group: &group.name,
-                    start: drone.start,
-                    goals: &group.goals,
+                    pad: Voxel::new(drone.pad[0], drone.pad[1], -1),
+                    at: (gi, di),
                 },
             );
         }
     }
     let mut seen = HashSet::new();
-    let mut goals_taken: HashSet<(&str, Voxel)> = HashSet::new();
     let mut latest_arrival = 0u32;
     let mut arrivals_total = 0u64;
     for d in &plan.drones {
@@ -185,7 +183,13 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
             violations.push(PlanViolation::UnknownDrone(d.id.clone()));
             continue;
         }
-        assignment(d, owner, &mut goals_taken, &mut violations);
+        if d.group != owner.group {
+            violations.push(PlanViolation::WrongGroup {
+                id: d.id.clone(),
+                expected: owner.group.to_string(),
+                found: d.group.clone(),
+            });
+        }
         if let Some(arrival) = path(mission, d, owner, expected_len, &mut violations) {
             latest_arrival = latest_arrival.max(arrival as u32);
             arrivals_total += arrival as u64;
@@ -198,6 +202,7 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
             }
         }
     }
+    legs(mission, plan, &owners, &mut violations);
 
     // Collisions, step by step, over paths of the common length.
     let common: Vec<_> = plan
@@ -233,35 +238,98 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
 /// What the mission says about one drone.
 struct Owner<'m> {
     group: &'m str,
-    start: Voxel,
-    goals: &'m [Voxel],
+    /// The pad-layer cell above its pad, where its path must begin.
+    pad: Voxel,
+    /// Its group's and its own index in the mission.
+    at: (usize, usize),
 }
 
-/// The drone's group and goal against the mission's (each goal taken once per group).
-fn assignment<'p>(
-    d: &'p DronePlan,
-    owner: &Owner<'p>,
-    goals_taken: &mut HashSet<(&'p str, Voxel)>,
+/// Every leg of the mission, in order, against the plan's: the same names and holds,
+/// steps that add up, and at each leg's last step every drone on a target the leg
+/// allows it (shared targets: any of the group's; own targets: its own, where own
+/// targets may depend on where the previous leg left it).
+fn legs(
+    mission: &Mission,
+    plan: &DiscretePlan,
+    owners: &HashMap<&str, Owner>,
     violations: &mut Vec<PlanViolation>,
 ) {
-    if d.group != owner.group {
-        violations.push(PlanViolation::WrongGroup {
-            id: d.id.clone(),
-            expected: owner.group.to_string(),
-            found: d.group.clone(),
-        });
+    let wanted = mission.legs();
+    let names = |v: Vec<&str>| v.join(", ");
+    if wanted.len() != plan.legs.len()
+        || wanted
+            .iter()
+            .zip(&plan.legs)
+            .any(|(w, p)| w.name != p.name || w.kind != p.kind)
+    {
+        violations.push(PlanViolation::Legs(format!(
+            "the mission flies [{}], the plan [{}]",
+            names(wanted.iter().map(|l| l.name.as_str()).collect()),
+            names(plan.legs.iter().map(|l| l.name.as_str()).collect())
+        )));
+        return;
     }
-    if !owner.goals.contains(&d.goal) {
-        violations.push(PlanViolation::ForeignGoal {
-            id: d.id.clone(),
-            group: owner.group.to_string(),
-            goal: d.goal,
-        });
-    } else if !goals_taken.insert((owner.group, d.goal)) {
-        violations.push(PlanViolation::GoalTwice {
-            group: owner.group.to_string(),
-            goal: d.goal,
-        });
+    let mut previous_end = 0usize;
+    for (w, p) in wanted.iter().zip(&plan.legs) {
+        let end = p.end_step as usize;
+        if end < previous_end || end > plan.makespan_steps as usize {
+            violations.push(PlanViolation::Legs(format!(
+                "leg {:?} ends at step {end}, before the previous leg (step {previous_end}) or after the makespan",
+                p.name
+            )));
+            return;
+        }
+        if (w.hold_s - p.hold_s).abs() > 1e-9 {
+            violations.push(PlanViolation::Legs(format!(
+                "leg {:?} holds {} s in the plan but {} s in the mission",
+                p.name, p.hold_s, w.hold_s
+            )));
+        }
+        let mut taken: HashSet<(usize, Voxel)> = HashSet::new();
+        for d in &plan.drones {
+            let Some(owner) = owners.get(d.id.as_str()) else {
+                continue;
+            };
+            let (gi, di) = owner.at;
+            let (Some(&found), Some(&before)) = (d.path.get(end), d.path.get(previous_end)) else {
+                continue;
+            };
+            let expected = match &w.targets[gi] {
+                crate::mission::Targets::Any(set) => (!set.contains(&found))
+                    .then(|| format!("not a target of group {:?}", owner.group)),
+                crate::mission::Targets::Own(own) => own
+                    .get(di)
+                    .filter(|&&v| v != found)
+                    .map(|v| format!("not its own target {v}")),
+                crate::mission::Targets::Stay => (found != before)
+                    .then(|| format!("not where it was at step {previous_end}, {before}")),
+                crate::mission::Targets::BelowCurrent => {
+                    let below = Voxel::new(before.x, before.y, -1);
+                    (found != below)
+                        .then(|| format!("not the pad-layer cell below {before}, {below}"))
+                }
+            };
+            let expected = expected.or_else(|| {
+                (!taken.insert((gi, found)))
+                    .then(|| "a target another drone also ends on".to_string())
+            });
+            if let Some(expected) = expected {
+                violations.push(PlanViolation::MissesLegTarget {
+                    id: d.id.clone(),
+                    leg: p.name.clone(),
+                    step: end,
+                    found,
+                    expected,
+                });
+            }
+        }
+        previous_end = end;
+    }
+    if previous_end != plan.makespan_steps as usize {
+        violations.push(PlanViolation::Legs(format!(
+            "the last leg ends at step {previous_end}, the plan's makespan is {}",
+            plan.makespan_steps
+        )));
     }
 }
 
@@ -285,10 +353,10 @@ fn path(
     let (Some(&first), Some(&last)) = (d.path.first(), d.path.last()) else {
         return None;
     };
-    if first != owner.start {
+    if first != owner.pad {
         violations.push(PlanViolation::WrongStart {
             id: id.clone(),
-            expected: owner.start,
+            expected: owner.pad,
             found: first,
         });
     }
@@ -300,7 +368,7 @@ fn path(
         });
     }
     for (step, &voxel) in d.path.iter().enumerate() {
-        if !mission.world.is_free(voxel) {
+        if !mission.airspace.is_free(voxel) {
             violations.push(PlanViolation::NotFree {
                 id: id.clone(),
                 step,

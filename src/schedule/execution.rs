@@ -14,6 +14,9 @@ pub struct ExecutionEvent {
     pub kind: EventKind,
     /// The voxel the event is about (as in the TPG's [`Event`](super::Event)).
     pub voxel: Voxel,
+    /// The discrete step at which the move containing the event ends (0 for `Start`).
+    #[serde(default)]
+    pub step: u32,
     /// Where the event happens, ENU metres: what the executor compares telemetry with.
     pub position_m: [f64; 3],
     /// Scheduled time at which the drone reaches the event's position.
@@ -60,6 +63,7 @@ pub fn execution_plan(tpg: &Tpg, schedule: &Schedule) -> ExecutionPlan {
                 .map(|(e, t)| ExecutionEvent {
                     kind: e.kind,
                     voxel: e.voxel,
+                    step: e.step,
                     position_m: e.position_m,
                     reach_s: t.reach_s,
                     leave_s: t.leave_s,

@@ -53,6 +53,34 @@
 //! instant — for following on one line, perpendicular entries and exits, and drones
 //! resting side by side alike.
 //!
+//! **The pad layer.** A whole flight runs in the mission's *airspace*: the world plus
+//! a pad layer below it, whose centres sit at the pads' hover height `p` above the
+//! ground rather than a whole voxel below layer 0. The lattice is still rectilinear;
+//! only the gap `g` between the pad layer and layer 0 may differ from `s`, and
+//! mission validation demands `g ≥ d` (as [`build`] checks again). Nothing above used
+//! the length `s` except through `d ≤ s`: with every spacing at least `d`, two edges
+//! sharing no centre are at least `d` apart (Lemma 1 with `min(s, g)` for `s`), and
+//! Lemma 2 holds on an edge of any length `ℓ ≥ d` with its own hold radius
+//! `(ℓ + d) / 2` and markers at `(ℓ − d) / 2` from each end, which is where
+//! [`build`] puts them on the moves into and out of the pad layer.
+//!
+//! **Ground to pad layer.** Before its first move a drone climbs straight up from
+//! its pad on the ground to the pad-layer cell above, and after its last it descends
+//! straight down from the pad-layer cell it ended in. Both happen inside the column
+//! below a cell the drone holds: its first cell from time zero until it leaves, its
+//! last from its final arrival on (no other drone enters a cell after its last
+//! visitor arrived for good). Every point of that column is at least `s` from every
+//! other column's lattice points and edges, and at least `g ≥ d` below every
+//! lattice point above the cell; no other drone is on an edge from the held cell.
+//! So climbs and touchdowns keep the safety distance too, and pads being distinct
+//! cells keeps drones standing on the ground `s` apart.
+//!
+//! **Holds.** A stage with a hold adds, for every pair of drones `(A, B)` (`A = B`
+//! included), an edge from `A`'s rest at the stage's formation to `B`'s, delayed by
+//! the hold: nobody leaves before the whole swarm has been in formation that long.
+//! These edges only delay departures, so they never weaken the argument above, and
+//! they keep the STN a set of difference constraints.
+//!
 //! **Cycles.** A rotation (drones following each other round a loop in one step) and a
 //! swap make the TPG cyclic: no precedence schedule can execute them with a safety
 //! distance, and [`solve`] reports [`ScheduleError::CyclicPlan`].

@@ -295,7 +295,7 @@ impl Layout {
         for e in &tpg.cross_edges {
             let (from_tp, from_off) = self.reach(tpg, e.from.drone, e.from.index);
             let (to_tp, to_off) = self.leave(tpg, e.to.drone, e.to.index);
-            stn.add(from_tp, to_tp, from_off - to_off, inf);
+            stn.add(from_tp, to_tp, from_off - to_off + e.delay_s, inf);
         }
         stn
     }

@@ -51,16 +51,24 @@ pub struct EventId {
     pub index: u32,
 }
 
-/// A type-2 edge: `to` (a drone's `Enter` marker for `voxel`) may happen only after
-/// `from` (the previous holder's `Leave` marker for `voxel`).
+/// A cross-drone precedence: the drone of `to` may move past `to` only `delay_s`
+/// after the drone of `from` has reached `from`.
+///
+/// Type-2 edges hand a voxel over: `from` is the previous holder's `Leave` marker,
+/// `to` the next holder's `Enter` marker, `delay_s` zero. Hold edges make a stage's
+/// hold: `from` is where a drone comes to rest in the formation, `to` where another
+/// (or the same) drone rests in it, `delay_s` the stage's hold.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CrossEdge {
-    /// The previous holder's `Leave` marker.
+    /// The earlier event.
     pub from: EventId,
-    /// The next holder's `Enter` marker.
+    /// The event that waits for it.
     pub to: EventId,
-    /// The voxel handed over.
+    /// The voxel handed over (type-2), or where `to`'s drone holds the formation.
     pub voxel: Voxel,
+    /// Seconds that must pass after `from` before `to` is passed (0 for type-2 edges).
+    #[serde(default)]
+    pub delay_s: f64,
 }
 
 /// One drone's events in path order (type-1 edges join consecutive events).
@@ -117,7 +125,7 @@ struct Visit {
 /// Fails with a clear error if the safety distance exceeds the voxel size, if a path is
 /// malformed, or if two drones meet in a voxel or swap along an edge.
 pub fn build(mission: &Mission, plan: &DiscretePlan) -> Result<Tpg, ScheduleError> {
-    build_with(&mission.world, &mission.limits, plan)
+    build_with(&mission.airspace, &mission.limits, plan)
 }
 
 /// [`build`] from a world and limits rather than a whole mission.
@@ -144,6 +152,15 @@ pub fn build_with(
             voxel_size_m: s,
         });
     }
+    if let Some(pad_z_m) = world.pad_layer_z_m() {
+        let gap_m = world.center_m(Voxel::new(0, 0, 0)).z - pad_z_m;
+        if gap_m < d {
+            return Err(ScheduleError::SafetyDistanceTooLarge {
+                safety_distance_m: d,
+                voxel_size_m: gap_m,
+            });
+        }
+    }
     let delta = 0.5 * (s - d);
     let mut drones = Vec::with_capacity(plan.drones.len());
     let mut visits = Vec::with_capacity(plan.drones.len());
@@ -156,7 +173,9 @@ pub fn build_with(
         visits.push(drone_visits);
     }
     let candidates = cross_candidates(world, plan, &visits)?;
-    let cross_edges = minimal_edges(candidates);
+    let mut cross_edges = minimal_edges(candidates);
+    cross_edges.extend(hold_edges(plan, &visits, &mut drones));
+    cross_edges.sort_unstable_by_key(|e| (e.to, e.from));
     Ok(Tpg {
         voxel_size_m: s,
         safety_distance_m: d,
@@ -194,7 +213,7 @@ fn drone_events(
             ),
         ));
     }
-    let s = world.voxel_size_m();
+    let d = world.voxel_size_m() - 2.0 * delta;
     let mut visits: Vec<Visit> = Vec::new();
     for (step, &voxel) in path.iter().enumerate() {
         let step = step as u32;
@@ -235,6 +254,10 @@ fn drone_events(
     for k in 1..visits.len() {
         let (from, to) = (visits[k - 1].voxel, visits[k].voxel);
         let (a, b) = (world.center_m(from), world.center_m(to));
+        // Moves are one voxel long except into and out of the pad layer, whose gap to
+        // layer 0 may differ: markers sit (length − d) / 2 from each end of any move.
+        let s = (b - a).norm();
+        let delta = 0.5 * (s - d).max(0.0);
         let dir = (b - a) / s;
         let step = visits[k].first_step;
         let at = |offset_m: f64| -> [f64; 3] { (a + dir * offset_m).into() };
@@ -273,6 +296,50 @@ fn drone_events(
         });
     }
     Ok((events, visits))
+}
+
+/// Hold edges for every leg with a hold: each drone's rest event in the formation
+/// (forced to be a rest) waits `hold_s` after every drone's, its own included, so
+/// nobody leaves before the whole swarm has held the formation that long.
+fn hold_edges(
+    plan: &DiscretePlan,
+    visits: &[Vec<Visit>],
+    drones: &mut [TpgDrone],
+) -> Vec<CrossEdge> {
+    let mut edges = Vec::new();
+    for leg in plan.legs.iter().filter(|l| l.hold_s > 0.0) {
+        let at: Vec<(u32, Voxel)> = visits
+            .iter()
+            .map(|dv| {
+                let k = dv
+                    .iter()
+                    .position(|v| v.first_step <= leg.end_step && leg.end_step <= v.last_step)
+                    .unwrap_or(dv.len().saturating_sub(1));
+                let index = if k == 0 { 0 } else { dv[k].enter + 2 };
+                (index, dv.get(k).map_or(Voxel::new(0, 0, 0), |v| v.voxel))
+            })
+            .collect();
+        for (i, &(index, voxel)) in at.iter().enumerate() {
+            if let Some(e) = drones[i].events.get_mut(index as usize) {
+                e.rest = true;
+            }
+            for (j, &(from, _)) in at.iter().enumerate() {
+                edges.push(CrossEdge {
+                    from: EventId {
+                        drone: j as u32,
+                        index: from,
+                    },
+                    to: EventId {
+                        drone: i as u32,
+                        index,
+                    },
+                    voxel,
+                    delay_s: leg.hold_s,
+                });
+            }
+        }
+    }
+    edges
 }
 
 fn direction(from: Voxel, to: Voxel) -> [i64; 3] {
@@ -345,6 +412,7 @@ fn cross_candidates(
                                 index: visit.enter,
                             },
                             voxel: visit.voxel,
+                            delay_s: 0.0,
                         });
                     }
                 }
@@ -386,6 +454,5 @@ fn minimal_edges(mut edges: Vec<CrossEdge>) -> Vec<CrossEdge> {
             kept.push(e);
         }
     }
-    kept.sort_unstable_by_key(|e| (e.to, e.from));
     kept
 }

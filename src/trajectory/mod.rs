@@ -9,7 +9,7 @@
 //! use swarmctl::plan::{DiscretePlan, DronePlan};
 //! use swarmctl::world::Voxel;
 //! let mission = from_yaml(
-//!     "name: one\nworld: { dimensions: [3, 1, 1], voxel_size_m: 1.0 }\n\
+//!     "name: one\nworld: { dimensions: [3, 1, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }\n\
 //!      limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.5 }\n\
 //!      groups: [{ name: g, drones: [{ id: a, start: [0, 0, 0] }], goals: [[2, 0, 0]] }]\n",
 //!     std::path::Path::new("one.yaml"),
@@ -19,13 +19,18 @@
 //!     makespan_steps: 2,
 //!     sum_of_costs_steps: 2,
 //!     drones: vec![DronePlan { id: "a".into(), group: "g".into(), goal: path[2], path }],
+//!     legs: Vec::new(),
 //! };
 //! let timed = swarmctl::trajectory::plan_trajectories(&mission, &plan).unwrap();
 //! // 2 m straight: 1 s accelerating, 1 s cruising, 1 s braking.
 //! assert!((timed.makespan_s - 3.0).abs() < 1e-9);
 //! let samples = timed.sample(20.0);
 //! assert_eq!(samples[0].len(), 61);
-//! assert_eq!(samples[0][60], [3.0, 2.0, 0.0, 0.0]);
+//! assert_eq!(samples[0][60], [3.0, 2.0, 0.0, 1.5]);
+//! // Pad to pad: up 1.5 m from the ground first, down again at the end.
+//! let flight = timed.pad_to_pad(1.0, 1.0);
+//! assert_eq!(flight.drones[0].start_m, [0.0, 0.0, 0.0]);
+//! assert_eq!(flight.drones[0].position_m(1e3), [2.0, 0.0, 0.0]);
 //! ```
 
 /// The speed profile of a run; it lives in [`crate::profile`], below both the
@@ -135,6 +140,60 @@ impl Trajectories {
             .iter()
             .map(|d| sample_drone(d, rate_hz, count))
             .collect()
+    }
+}
+
+impl Trajectories {
+    /// The whole flight, ground to ground: every drone first climbs straight up from
+    /// the ground below its start to it (all together, while nobody has left yet),
+    /// then flies its trajectory delayed by the longest climb, and once it has come
+    /// to rest for good descends straight to the ground below. Climb and descent are
+    /// rest-to-rest runs within the limits, inside the column below a pad-layer cell
+    /// the drone holds (see the separation argument in [`schedule`]), and are what
+    /// the independent checker measures along with the rest.
+    pub fn pad_to_pad(&self, max_speed_mps: f64, max_accel_mps2: f64) -> Trajectories {
+        let vertical = |from_m: [f64; 3], to_m: [f64; 3], start_s: f64| Run {
+            start_s,
+            from_m,
+            to_m,
+            profile: Profile::new((to_m[2] - from_m[2]).abs(), max_speed_mps, max_accel_mps2),
+        };
+        let ground = |p: [f64; 3]| [p[0], p[1], 0.0];
+        let climb_s = self
+            .drones
+            .iter()
+            .map(|d| {
+                vertical(ground(d.start_m), d.start_m, 0.0)
+                    .profile
+                    .duration_s()
+            })
+            .fold(0.0, f64::max);
+        let drones: Vec<DroneTrajectory> = self
+            .drones
+            .iter()
+            .map(|d| {
+                let end_m = d.runs.last().map_or(d.start_m, |r| r.to_m);
+                let mut runs = Vec::with_capacity(d.runs.len() + 2);
+                runs.push(vertical(ground(d.start_m), d.start_m, 0.0));
+                runs.extend(d.runs.iter().map(|r| Run {
+                    start_s: r.start_s + climb_s,
+                    ..*r
+                }));
+                runs.push(vertical(end_m, ground(end_m), d.arrival_s() + climb_s));
+                DroneTrajectory {
+                    id: d.id.clone(),
+                    start_m: ground(d.start_m),
+                    runs,
+                }
+            })
+            .collect();
+        Trajectories {
+            makespan_s: drones
+                .iter()
+                .map(DroneTrajectory::arrival_s)
+                .fold(0.0, f64::max),
+            drones,
+        }
     }
 }
 

@@ -24,8 +24,14 @@ pub const UNREACHABLE: u32 = u32::MAX;
 #[derive(Debug, Clone, PartialEq)]
 pub struct VoxelGrid {
     dimensions: [u32; 3],
+    /// The voxel with the smallest coordinates: `[0, 0, 0]` for a mission's world,
+    /// below and beside it for the airspace (pad layer, launch areas).
+    min: [i32; 3],
     voxel_size_m: f64,
     origin_m: [f64; 3],
+    /// Centre height of the lowest layer when it is a pad layer, ENU metres: the pads'
+    /// low hover height, which need not sit a whole voxel below layer 0.
+    pad_layer_z_m: Option<f64>,
     blocked: Vec<bool>,
 }
 
@@ -35,10 +41,59 @@ impl VoxelGrid {
         let len = dimensions.iter().map(|&d| d as usize).product();
         Self {
             dimensions,
+            min: [0; 3],
             voxel_size_m,
             origin_m,
+            pad_layer_z_m: None,
             blocked: vec![false; len],
         }
+    }
+
+    /// The airspace around `world`: the world itself, a pad layer below it (its
+    /// centres at `pad_layer_z_m`) reaching sideways to cover `x_range` × `y_range`,
+    /// and, outside the world's footprint above the pad layer, nothing (blocked):
+    /// drones leave the pad layer only into the world's own voxels.
+    pub fn airspace(
+        world: &VoxelGrid,
+        pad_layer_z_m: f64,
+        x_range: std::ops::RangeInclusive<i32>,
+        y_range: std::ops::RangeInclusive<i32>,
+    ) -> VoxelGrid {
+        let [wx, wy, wz] = world.dimensions;
+        let lo = [
+            (*x_range.start()).min(world.min[0]),
+            (*y_range.start()).min(world.min[1]),
+            world.min[2] - 1,
+        ];
+        let hi = [
+            (*x_range.end()).max(world.min[0] + wx as i32 - 1),
+            (*y_range.end()).max(world.min[1] + wy as i32 - 1),
+            world.min[2] + wz as i32 - 1,
+        ];
+        let dimensions = std::array::from_fn(|i| (hi[i] - lo[i] + 1) as u32);
+        let mut grid = VoxelGrid::new(dimensions, world.voxel_size_m, world.origin_m);
+        grid.min = lo;
+        grid.pad_layer_z_m = Some(pad_layer_z_m);
+        for c in 0..grid.len() {
+            let v = grid.voxel(c);
+            let blocked = if v.z == lo[2] {
+                false
+            } else {
+                !world.contains(v) || world.is_blocked(v)
+            };
+            grid.blocked[c] = blocked;
+        }
+        grid
+    }
+
+    /// The voxel with the smallest coordinates (`[0, 0, 0]` for a mission's world).
+    pub fn min_voxel(&self) -> Voxel {
+        Voxel::from(self.min)
+    }
+
+    /// The pad layer's centre height, ENU metres, when this grid has one.
+    pub fn pad_layer_z_m(&self) -> Option<f64> {
+        self.pad_layer_z_m
     }
 
     /// World size in voxels along x (east), y (north), z (up).
@@ -73,14 +128,28 @@ impl VoxelGrid {
 
     /// True for a voxel inside the world's bounds, free or not.
     pub fn contains(&self, v: Voxel) -> bool {
-        v.x < self.dimensions[0] && v.y < self.dimensions[1] && v.z < self.dimensions[2]
+        self.local(v).is_some()
+    }
+
+    /// `v` relative to the grid's lowest corner, when inside the grid.
+    fn local(&self, v: Voxel) -> Option<[usize; 3]> {
+        let rel = [v.x, v.y, v.z];
+        let mut out = [0usize; 3];
+        for i in 0..3 {
+            let d = i64::from(rel[i]) - i64::from(self.min[i]);
+            if d < 0 || d >= i64::from(self.dimensions[i]) {
+                return None;
+            }
+            out[i] = d as usize;
+        }
+        Some(out)
     }
 
     /// The dense index of `v`, or `None` outside the world.
     pub fn cell(&self, v: Voxel) -> Option<Cell> {
-        self.contains(v).then(|| {
+        self.local(v).map(|[x, y, z]| {
             let [dx, dy, _] = self.dimensions.map(|d| d as usize);
-            v.x as usize + dx * (v.y as usize + dy * v.z as usize)
+            x + dx * (y + dy * z)
         })
     }
 
@@ -88,9 +157,9 @@ impl VoxelGrid {
     pub fn voxel(&self, cell: Cell) -> Voxel {
         let [dx, dy, _] = self.dimensions.map(|d| d as usize);
         Voxel::new(
-            (cell % dx) as u32,
-            ((cell / dx) % dy) as u32,
-            (cell / (dx * dy)) as u32,
+            (cell % dx) as i32 + self.min[0],
+            ((cell / dx) % dy) as i32 + self.min[1],
+            (cell / (dx * dy)) as i32 + self.min[2],
         )
     }
 
@@ -123,22 +192,22 @@ impl VoxelGrid {
             .map(|c| self.voxel(c))
     }
 
-    /// Centre of voxel `v` in ENU metres: `origin_m + voxel_size_m * (x, y, z)`.
+    /// Centre of voxel `v` in ENU metres: `origin_m + voxel_size_m * (x, y, z)`, except
+    /// on a pad layer, whose centres sit at the pads' hover height.
     pub fn center_m(&self, v: Voxel) -> Point3<f64> {
         let s = self.voxel_size_m;
         let [ox, oy, oz] = self.origin_m;
-        Point3::new(
-            ox + s * f64::from(v.x),
-            oy + s * f64::from(v.y),
-            oz + s * f64::from(v.z),
-        )
+        let z = match self.pad_layer_z_m {
+            Some(z) if v.z == self.min[2] => z,
+            _ => oz + s * f64::from(v.z),
+        };
+        Point3::new(ox + s * f64::from(v.x), oy + s * f64::from(v.y), z)
     }
 
     /// The free face neighbours of a cell (6-connectivity).
     pub fn neighbours(&self, cell: Cell) -> impl Iterator<Item = Cell> + '_ {
         let [dx, dy, dz] = self.dimensions.map(|d| d as usize);
-        let v = self.voxel(cell);
-        let (x, y, z) = (v.x as usize, v.y as usize, v.z as usize);
+        let (x, y, z) = (cell % dx, (cell / dx) % dy, cell / (dx * dy));
         let plane = dx * dy;
         let candidates = [
             (x > 0).then(|| cell - 1),

@@ -20,7 +20,7 @@ fn every_example_mission_passes_check() {
                 .assert()
                 .success()
                 .stdout(contains("valid mission"))
-                .stdout(contains("makespan   ≥"));
+                .stdout(contains("formation  ≥"));
             count += 1;
         }
     }

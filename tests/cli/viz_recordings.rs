@@ -170,7 +170,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         executed_makespan_s: Some(plan.makespan_s),
         min_separation_m: plan.check.min_separation_bound_m,
         closest_pair: None,
-        min_separation_takeoff_landing_m: 1.0,
+        safety_held: true,
         safety_distance_m: 0.25,
         max_speed_mps: plan.check.max_speed_mps,
         speed_limit_mps: 1.0,
@@ -209,7 +209,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         events: vec![LogEvent {
             t_s: offset_s,
             drone: None,
-            message: "all drones at their start: executing the plan".into(),
+            message: swarmctl::fly::log::PLAN_STARTED.into(),
         }],
     }
 }

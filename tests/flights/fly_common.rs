@@ -60,6 +60,7 @@ pub fn assert_success(log: &FlightLog) {
         eprintln!("{line}");
     }
     assert!(s.completed, "flight did not complete: {:?}", log.events);
+    assert!(s.safety_held, "safety not held");
     assert!(
         s.min_separation_m >= s.safety_distance_m,
         "separation {} m below safety distance {} m",

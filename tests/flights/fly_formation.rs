@@ -43,3 +43,30 @@ async fn formation_change_with_ten_percent_loss() {
         .expect("flight");
     assert_success(&log);
 }
+
+/// A small show pad to pad: launch pads beside the stage, three formations after
+/// the first with holds, landing on the group's pads; the separation holds from the
+/// first arm to the last touchdown.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn small_show_pad_to_pad() {
+    let (mission, plan) = load("missions/small-show.yaml");
+    assert_eq!(plan.legs.len(), 5);
+    let log = fly_bundled(&mission, &plan, Flavour::Px4, &[], Duration::from_secs(150))
+        .await
+        .expect("flight");
+    assert_success(&log);
+    // Every drone ends on a pad of its group, where it is told to land.
+    for (d, (g, _)) in log.drones.iter().zip(mission.drones()) {
+        let pads: Vec<[f64; 3]> = g.drones.iter().map(|p| mission.pad_ground_m(p)).collect();
+        let last = d.samples.last().expect("samples");
+        let off_m = pads
+            .iter()
+            .map(|p| ((last[1] - p[0]).powi(2) + (last[2] - p[1]).powi(2)).sqrt())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            off_m < 0.2 && last[3] < 0.1,
+            "{} ended {off_m:.2} m from a pad",
+            d.id
+        );
+    }
+}

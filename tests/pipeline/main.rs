@@ -7,6 +7,7 @@
 mod support;
 
 mod fuzz_plan;
+mod ground_to_ground;
 mod layering;
 mod mission_validation;
 mod plan_optimality;

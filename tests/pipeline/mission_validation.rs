@@ -8,6 +8,7 @@ name: base
 world:
   dimensions: [6, 4, 2]
   voxel_size_m: 1.0
+  origin_m: [0.0, 0.0, 1.5]
   obstacles:
     - [3, 0, 0]
     - { min: [3, 2, 0], max: [3, 3, 1] }
@@ -290,14 +291,6 @@ const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
         false,
     ),
     (
-        "too many goals",
-        "goals: [[0, 3, 0]]",
-        "goals: [[0, 3, 0], [0, 2, 0]]",
-        "groups[1].goals",
-        "2 goal(s) for 1 drone(s)",
-        false,
-    ),
-    (
         "duplicate drone id",
         "{ id: r1,",
         "{ id: b1,",
@@ -369,14 +362,84 @@ const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
         "already used by groups[0]",
         false,
     ),
-    // A wall across x = 3 (the box plus the single obstacle) leaves only y = 1 open;
-    // closing it walls every drone off from its goals.
     (
-        "drone walled off",
-        "- [3, 0, 0]",
-        "- { min: [3, 0, 0], max: [3, 1, 1] }",
+        "pads duplicated",
+        "system_id: 1 }\n      - { id: b2, start: [0, 1, 0], system_id: 2 }",
+        "system_id: 1, pad: [4, 4] }\n      - { id: b2, start: [0, 1, 0], system_id: 2, pad: [4, 4] }",
+        "groups[0].drones[1].pad",
+        "already the pad of groups[0].drones[0]",
+        false,
+    ),
+    (
+        "no room for the pad layer",
+        "voxel_size_m: 1.0\n",
+        "voxel_size_m: 1.0\n  pad_height_m: 1.3\n",
+        "world.pad_height_m",
+        "no room for the pad layer",
+        false,
+    ),
+    (
+        "pad too far",
+        "{ id: r1, start: [5, 3, 0] }",
+        "{ id: r1, start: [5, 3, 0], pad: [500, 0] }",
+        "groups[1].drones[0].pad",
+        "too far from the world",
+        false,
+    ),
+    (
+        "neither start nor pad",
+        "{ id: r1, start: [5, 3, 0] }",
+        "{ id: r1 }",
         "groups[1].drones[0]",
-        "can reach no goal",
+        "neither a start nor a pad",
+        false,
+    ),
+    (
+        "starts for some drones of a group only",
+        "{ id: b2, start: [0, 1, 0], system_id: 2 }",
+        "{ id: b2, pad: [0, 1], system_id: 2 }",
+        "groups[0].drones",
+        "1 of its 2 drones have a start",
+        false,
+    ),
+    (
+        "unknown group in a stage",
+        "    goals: [[0, 3, 0]]\n",
+        "    goals: [[0, 3, 0]]\nstages:\n  - { name: s1, goals: { green: [[1, 1, 1]] } }\n",
+        "stages[0].goals.green",
+        "no group is named \"green\"",
+        false,
+    ),
+    (
+        "too few goals in a stage",
+        "    goals: [[0, 3, 0]]\n",
+        "    goals: [[0, 3, 0]]\nstages:\n  - { name: s1, goals: { blue: [[1, 1, 1]] } }\n",
+        "stages[0].goals.blue",
+        "1 goal(s) in stage \"s1\" for 2 drone(s)",
+        false,
+    ),
+    (
+        "a goal used twice in a stage",
+        "    goals: [[0, 3, 0]]\n",
+        "    goals: [[0, 3, 0]]\nstages:\n  - { name: s1, goals: { blue: [[1, 1, 1], [1, 2, 1]], red: [[1, 1, 1]] } }\n",
+        "stages[0].goals.red[0]",
+        "already used in this stage",
+        false,
+    ),
+    (
+        "below_goal with shared columns",
+        "    goals: [[0, 3, 0]]\n",
+        "    goals: [[0, 3, 0]]\nlanding: below_goal\nstages:\n  - { name: s1, goals: { blue: [[1, 1, 0], [1, 1, 1]] } }\n",
+        "landing",
+        "share column [1, 1]",
+        false,
+    ),
+    (
+        "below_goal over an obstacle",
+        "    goals: [[0, 3, 0]]\n",
+        "    goals: [[0, 3, 0]]\nlanding: below_goal\nstages:\n  - { name: s1, goals: { red: [[3, 0, 1]] } }\n",
+        "landing",
+        "obstacle [3, 0, 0] is below goal [3, 0, 1]",
         false,
     ),
 ];
@@ -402,25 +465,50 @@ fn every_bad_input_is_reported_with_path_and_reason() {
 }
 
 #[test]
-fn unmatched_group_names_its_drones() {
-    // Both blue drones sit left of a full wall with only one blue goal there.
+fn walled_off_goals_are_named() {
+    // Red's goal [0, 3, 1] in the top north-west corner, boxed in on its three open
+    // sides: no pad reaches it, not even through the pad layer below the world.
     let yaml = BASE
-        .replacen("- [3, 0, 0]", "- { min: [3, 0, 0], max: [3, 1, 1] }", 1)
-        .replacen("[[5, 0, 0], [5, 1, 0]]", "[[1, 0, 0], [5, 1, 0]]", 1)
         .replacen(
-            "{ id: r1, start: [5, 3, 0] }",
-            "{ id: r1, start: [5, 3, 1] }",
+            "    - [3, 0, 0]\n",
+            "    - [3, 0, 0]\n    - [1, 3, 1]\n    - [0, 2, 1]\n    - [0, 3, 0]\n",
             1,
         )
-        .replacen("goals: [[0, 3, 0]]", "goals: [[4, 3, 0]]", 1);
+        .replacen("goals: [[0, 3, 0]]", "goals: [[0, 3, 1]]", 1);
     let problems = problems_of(&yaml);
     assert!(
-        problems.iter().any(|(p, m, _)| p == "groups[0]"
-            && m.contains("\"blue\"")
-            && m.contains("b1, b2")
-            && m.contains("only 1 of the group's goals")),
+        problems.iter().any(|(p, m, _)| p == "groups[1].goals"
+            && m.contains("\"red\"")
+            && m.contains("only 0 of these voxels can be reached from the pads")
+            && m.contains("[0, 3, 1]")),
         "{problems:#?}"
     );
+}
+
+#[test]
+fn spare_goals_are_allowed() {
+    let yaml = BASE.replacen("goals: [[0, 3, 0]]", "goals: [[0, 3, 0], [0, 2, 0]]", 1);
+    let m = mission::from_yaml(&yaml, "case.yaml".as_ref()).expect("valid");
+    assert_eq!(m.groups[1].goals.len(), 2);
+}
+
+#[test]
+fn stacked_starts_get_distinct_pads_nearby() {
+    // b2 starts right above b1: b1 keeps the cell below, b2 gets the nearest free one.
+    let yaml = BASE.replacen(
+        "{ id: b2, start: [0, 1, 0], system_id: 2 }",
+        "{ id: b2, start: [0, 0, 1], system_id: 2 }",
+        1,
+    );
+    let m = mission::from_yaml(&yaml, "case.yaml".as_ref()).expect("valid");
+    let pads: Vec<([i32; 2], mission::PadSource)> =
+        m.drones().map(|(_, d)| (d.pad, d.pad_source)).collect();
+    assert_eq!(pads[0], ([0, 0], mission::PadSource::BelowStart));
+    assert_eq!(pads[1].1, mission::PadSource::Assigned);
+    assert_ne!(pads[1].0, [0, 0]);
+    let [x, y] = pads[1].0;
+    assert!(x.abs() <= 1 && y.abs() <= 1, "{:?}", pads[1]);
+    assert!((m.pad_height_m() - 0.5).abs() < 1e-12);
 }
 
 #[test]

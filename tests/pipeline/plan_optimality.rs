@@ -1,12 +1,16 @@
 //! The planner's plans are valid and makespan-optimal: checked against hand-made
 //! instances with known optima and against a brute-force search over joint states.
+//!
+//! Optimality is measured on the TAPF core ([`plan::solve_tapf`]) for a mission's
+//! first formation, starts to goals in its own world; whole flights (pads, legs,
+//! landing) are planned with [`plan::solve`] and checked by the validator.
 
 use proptest::prelude::*;
 use std::collections::{HashMap, VecDeque};
 use std::time::Duration;
 use swarmctl::generate::GenerateOptions;
 use swarmctl::mission::{self, Mission};
-use swarmctl::plan::{self, PlanError, PlanOptions};
+use swarmctl::plan::{self, PlanError, PlanOptions, TapfGroup};
 use swarmctl::world::Voxel;
 
 fn load(yaml: &str) -> Mission {
@@ -26,8 +30,77 @@ fn generated(options: GenerateOptions) -> Mission {
     mission::validate(&file).expect("valid")
 }
 
-/// Plans and validates; returns the makespan.
+/// The mission's first formation as one TAPF instance: starts to goals.
+fn formation(m: &Mission) -> Vec<TapfGroup> {
+    m.groups
+        .iter()
+        .map(|g| TapfGroup {
+            starts: g.drones.iter().map(|d| d.start.expect("start")).collect(),
+            goals: g.goals.clone(),
+        })
+        .collect()
+}
+
+/// A TAPF solution checked from scratch: every path starts at its drone's start,
+/// ends on a distinct goal of its group, moves one face at a time through free
+/// voxels, and no two drones meet or swap.
+fn check_tapf(m: &Mission, solution: &plan::TapfSolution) -> Result<(), String> {
+    let world = &m.world;
+    let len = solution.makespan_steps as usize + 1;
+    let mut all: Vec<&Vec<Voxel>> = Vec::new();
+    for (g, paths) in m.groups.iter().zip(&solution.paths) {
+        let mut ends: Vec<Voxel> = paths.iter().filter_map(|p| p.last().copied()).collect();
+        ends.sort();
+        ends.dedup();
+        if ends.len() != g.drones.len() || !ends.iter().all(|e| g.goals.contains(e)) {
+            return Err(format!("group {} does not end on distinct goals", g.name));
+        }
+        for (d, p) in g.drones.iter().zip(paths) {
+            if p.len() != len || Some(p[0]) != d.start {
+                return Err(format!("{}: wrong length or start", d.id));
+            }
+            if p.iter().any(|&v| !world.is_free(v))
+                || p.windows(2).any(|w| w[0].manhattan(w[1]) > 1)
+            {
+                return Err(format!("{}: leaves free space or jumps", d.id));
+            }
+            all.push(p);
+        }
+    }
+    for t in 0..len {
+        for (i, a) in all.iter().enumerate() {
+            for b in &all[i + 1..] {
+                let swap = t + 1 < len && a[t] == b[t + 1] && a[t + 1] == b[t] && a[t] != a[t + 1];
+                if a[t] == b[t] || swap {
+                    return Err(format!("conflict at step {t}"));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Plans the first formation with the TAPF core and checks it; returns the makespan.
 fn planned_makespan(m: &Mission, seed: u64) -> u32 {
+    let options = PlanOptions {
+        seed,
+        ..PlanOptions::default()
+    };
+    let solution = plan::solve_tapf(&m.world, &formation(m), &options)
+        .unwrap_or_else(|e| panic!("{}: {e}", m.name));
+    if let Err(why) = check_tapf(m, &solution) {
+        panic!("{}: invalid plan: {why}", m.name);
+    }
+    let lb = plan::makespan_lower_bound(m).expect("matchable");
+    assert!(
+        solution.makespan_steps >= lb,
+        "makespan below the lower bound"
+    );
+    solution.makespan_steps
+}
+
+/// Plans the whole flight and validates it; returns the plan.
+fn planned_flight(m: &Mission, seed: u64) -> plan::Solution {
     let options = PlanOptions {
         seed,
         ..PlanOptions::default()
@@ -36,12 +109,7 @@ fn planned_makespan(m: &Mission, seed: u64) -> u32 {
     if let Err(violations) = plan::validate_plan(m, &solution.plan) {
         panic!("{}: invalid plan: {violations:#?}", m.name);
     }
-    let lb = plan::makespan_lower_bound(m).expect("matchable");
-    assert!(
-        solution.plan.makespan_steps >= lb,
-        "makespan below the lower bound"
-    );
-    solution.plan.makespan_steps
+    solution
 }
 
 /// Optimal makespan by breadth-first search over the joint positions of all drones.
@@ -52,7 +120,12 @@ fn brute_force_makespan(m: &Mission) -> Option<u32> {
         .groups
         .iter()
         .enumerate()
-        .flat_map(|(g, group)| group.drones.iter().map(move |d| (g, d.start)))
+        .flat_map(|(g, group)| {
+            group
+                .drones
+                .iter()
+                .map(move |d| (g, d.start.expect("start")))
+        })
         .collect();
     let goal_sets: Vec<Vec<Voxel>> = m
         .groups
@@ -170,7 +243,7 @@ fn head_on_in_a_two_lane_corridor() {
     let m = load(
         "
 name: lanes
-world: { dimensions: [6, 2, 1], voxel_size_m: 1.0 }
+world: { dimensions: [6, 2, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
 limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }
 groups:
   - { name: east, drones: [{ id: e1, start: [0, 0, 0] }, { id: e2, start: [0, 1, 0] }], goals: [[5, 0, 0], [5, 1, 0]] }
@@ -190,16 +263,27 @@ fn single_anonymous_group_is_one_flow_without_a_conflict_tree() {
         groups: 1,
         seed: 3,
         voxel_size_m: 1.0,
+        ..GenerateOptions::default()
     });
-    let solution = plan::solve(&m, &PlanOptions::default()).expect("solved");
-    assert!(plan::validate_plan(&m, &solution.plan).is_ok());
+    let solution =
+        plan::solve_tapf(&m.world, &formation(&m), &PlanOptions::default()).expect("solved");
+    assert!(check_tapf(&m, &solution).is_ok());
     assert_eq!(solution.stats.ct_nodes_expanded, 1);
     assert_eq!(solution.stats.ct_nodes_generated, 1);
     // One group has no one to collide with: the collision-free bound is the optimum.
     assert_eq!(
-        Some(solution.plan.makespan_steps),
+        Some(solution.makespan_steps),
         plan::makespan_lower_bound(&m)
     );
+    // Pad to pad, every leg of one group is one flow too, at its own lower bound.
+    let flight = planned_flight(&m, 0);
+    assert_eq!(
+        flight.stats.ct_nodes_expanded,
+        flight.plan.legs.len() as u64
+    );
+    for leg in &flight.plan.legs {
+        assert_eq!(leg.makespan_steps, leg.lower_bound_steps, "{}", leg.name);
+    }
 }
 
 #[test]
@@ -210,6 +294,7 @@ fn paper_scale_missions_plan_and_validate() {
             ..Default::default()
         });
         planned_makespan(&m, 0);
+        planned_flight(&m, 0);
     }
 }
 
@@ -223,9 +308,11 @@ fn same_seed_same_plan() {
     let a = plan::solve(&m, &options).expect("solved").plan;
     let b = plan::solve(&m, &options).expect("solved").plan;
     assert_eq!(a, b);
+    assert_eq!(a.legs[1].name, "formation");
+    let a5 = plan::solve_tapf(&m.world, &formation(&m), &options).expect("solved");
     assert_eq!(
         planned_makespan(&m, 6),
-        a.makespan_steps,
+        a5.makespan_steps,
         "makespan is optimal for every seed"
     );
 }
@@ -239,12 +326,13 @@ fn deadline_reports_the_best_lower_bound() {
         groups: 10,
         seed: 1,
         voxel_size_m: 1.0,
+        ..GenerateOptions::default()
     });
     let options = PlanOptions {
         deadline: Duration::from_nanos(1),
         ..PlanOptions::default()
     };
-    match plan::solve(&m, &options) {
+    match plan::solve_tapf(&m.world, &formation(&m), &options) {
         Err(
             e @ PlanError::Deadline {
                 best_lower_bound_steps,
@@ -263,22 +351,27 @@ fn deadline_reports_the_best_lower_bound() {
 #[test]
 fn validator_catches_broken_plans() {
     let m = example("paper-example.yaml");
-    let good = plan::solve(&m, &PlanOptions::default())
-        .expect("solved")
-        .plan;
+    let good = planned_flight(&m, 0).plan;
     let mut collide = good.clone();
     collide.drones[1].path[2] = collide.drones[0].path[2];
     let mut jump = good.clone();
     jump.drones[0].path[1] = Voxel::new(4, 0, 0);
     let mut lie = good.clone();
     lie.sum_of_costs_steps -= 1;
-    let mut wrong_goal = good;
+    let mut wrong_goal = good.clone();
     wrong_goal.drones[0].goal = Voxel::new(3, 0, 0);
+    // The formation leg claimed to end a step early: someone is still on the way.
+    let mut skip_formation = good.clone();
+    skip_formation.legs[1].end_step -= 1;
+    let mut wrong_pad = good;
+    wrong_pad.drones[0].path[0] = Voxel::new(9, 9, -1);
     for (what, bad, expect) in [
         ("collision", collide, "both in"),
         ("jump", jump, "jumps"),
         ("cost", lie, "sum of costs"),
-        ("goal", wrong_goal, "not a goal of group"),
+        ("goal", wrong_goal, "not at its goal"),
+        ("formation", skip_formation, "not a target of group"),
+        ("pad", wrong_pad, "above its pad"),
     ] {
         let errors = plan::validate_plan(&m, &bad).expect_err(what);
         assert!(
@@ -308,7 +401,7 @@ fn tiny_instance() -> impl Strategy<Value = String> {
             let drones = if x * y * z > 12 { drones.min(3) } else { drones };
             let groups = groups.min(drones);
             let mut yaml = format!(
-                "name: tiny\nworld: {{ dimensions: [{x}, {y}, {z}], voxel_size_m: 1.0, obstacles: {blocked:?} }}\n\
+                "name: tiny\nworld: {{ dimensions: [{x}, {y}, {z}], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5], obstacles: {blocked:?} }}\n\
                  limits: {{ max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }}\ngroups:\n"
             );
             for g in 0..groups {
@@ -337,10 +430,10 @@ proptest! {
         // so can a rare, tightly coupled solvable one (CBS is exponential in the
         // conflicts). A deadline is never a wrong answer; anything returned must be exact.
         let deadline = Duration::from_millis(if optimum.is_some() { 5_000 } else { 200 });
-        match plan::solve(&m, &PlanOptions { seed, deadline }) {
+        match plan::solve_tapf(&m.world, &formation(&m), &PlanOptions { seed, deadline }) {
             Ok(solution) => {
-                prop_assert!(plan::validate_plan(&m, &solution.plan).is_ok(), "{yaml}");
-                prop_assert_eq!(Some(solution.plan.makespan_steps), optimum, "{}", yaml);
+                prop_assert!(check_tapf(&m, &solution).is_ok(), "{yaml}");
+                prop_assert_eq!(Some(solution.makespan_steps), optimum, "{}", yaml);
             }
             Err(PlanError::Deadline { best_lower_bound_steps, .. }) => {
                 if let Some(optimum) = optimum {
@@ -358,7 +451,7 @@ fn validator_rejects_rotations() {
     let m = load(
         "
 name: ring
-world: { dimensions: [2, 2, 1], voxel_size_m: 1.0 }
+world: { dimensions: [2, 2, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
 limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }
 groups:
   - { name: a, drones: [{ id: a, start: [0, 0, 0] }], goals: [[1, 0, 0]] }
@@ -366,7 +459,7 @@ groups:
   - { name: c, drones: [{ id: c, start: [1, 1, 0] }], goals: [[0, 0, 0]] }
 ",
     );
-    let drone = |id: &str, from: [u32; 3], to: [u32; 3]| plan::DronePlan {
+    let drone = |id: &str, from: [i32; 3], to: [i32; 3]| plan::DronePlan {
         id: id.into(),
         group: id.into(),
         goal: to.into(),
@@ -380,6 +473,7 @@ groups:
             drone("b", [1, 0, 0], [1, 1, 0]),
             drone("c", [1, 1, 0], [0, 0, 0]),
         ],
+        legs: Vec::new(),
     };
     // c jumps diagonally, which is reported too; the rotation must be named.
     let errors = plan::validate_plan(&m, &rotating).expect_err("rotation");

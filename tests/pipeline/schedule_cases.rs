@@ -13,8 +13,8 @@ fn mission(
     dims: [u32; 3],
     voxel_m: f64,
     safety_m: f64,
-    obstacles: &[[u32; 3]],
-    drones: &[(&str, [u32; 3], [u32; 3])],
+    obstacles: &[[i32; 3]],
+    drones: &[(&str, [i32; 3], [i32; 3])],
 ) -> Mission {
     let groups: Vec<String> = drones
         .iter()
@@ -25,8 +25,11 @@ fn mission(
         })
         .collect();
     let obstacles: Vec<String> = obstacles.iter().map(|o| format!("{o:?}")).collect();
+    // Layer 0 above a pad layer hovering at 1 m, far enough for the safety distance
+    // (cases whose safety distance exceeds the voxel are the schedule's to refuse).
+    let origin_z = voxel_m.max(safety_m) + 1.0;
     let yaml = format!(
-        "name: case\nworld: {{ dimensions: {dims:?}, voxel_size_m: {voxel_m}, obstacles: [{}] }}\n\
+        "name: case\nworld: {{ dimensions: {dims:?}, voxel_size_m: {voxel_m}, origin_m: [0.0, 0.0, {origin_z}], pad_height_m: 1.0, obstacles: [{}] }}\n\
          limits: {{ max_speed_mps: 1.0, max_accel_mps2: 2.0, safety_distance_m: {safety_m} }}\n\
          groups:\n{}",
         obstacles.join(", "),
@@ -35,7 +38,7 @@ fn mission(
     from_yaml(&yaml, std::path::Path::new("case.yaml")).expect("valid test mission")
 }
 
-fn plan(paths: &[(&str, &[[u32; 3]])]) -> DiscretePlan {
+fn plan(paths: &[(&str, &[[i32; 3]])]) -> DiscretePlan {
     let makespan = paths[0].1.len() as u32 - 1;
     DiscretePlan {
         makespan_steps: makespan,
@@ -52,6 +55,7 @@ fn plan(paths: &[(&str, &[[u32; 3]])]) -> DiscretePlan {
                 }
             })
             .collect(),
+        legs: Vec::new(),
     }
 }
 

@@ -72,8 +72,8 @@ fn check_plan(
     assert!(report.max_accel_mps2 <= mission.limits.max_accel_mps2 + 1e-9);
     // Each drone's samples start at its start centre and end at its goal centre.
     for (d, drone) in p.drones.iter().enumerate() {
-        let start = mission.world.center_m(drone.path[0]);
-        let goal = mission.world.center_m(drone.goal);
+        let start = mission.airspace.center_m(drone.path[0]);
+        let goal = mission.airspace.center_m(drone.goal);
         let (first, last) = (samples[d][0], samples[d][samples[d].len() - 1]);
         for c in 0..3 {
             assert!(

@@ -34,7 +34,7 @@ fn random_plan(rng: &mut ChaCha8Rng, world: &VoxelGrid, drones: usize, steps: u3
                 let up = rng.random_bool(0.5);
                 let mut c = [here.x, here.y, here.z];
                 let ok = if up {
-                    c[axis] + 1 < dims[axis]
+                    c[axis] + 1 < dims[axis] as i32
                 } else {
                     c[axis] > 0
                 };
@@ -76,6 +76,7 @@ fn random_plan(rng: &mut ChaCha8Rng, world: &VoxelGrid, drones: usize, steps: u3
                 path,
             })
             .collect(),
+        legs: Vec::new(),
     }
 }
 

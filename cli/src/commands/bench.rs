@@ -155,6 +155,34 @@ fn load(
     })
 }
 
+/// Per leg name, over all solved instances: how often the leg's makespan met its
+/// lower bound, and its median makespan against the median bound.
+fn print_legs(legs: &[Vec<(String, u32, u32)>]) {
+    let mut names: Vec<&str> = Vec::new();
+    for (name, _, _) in legs.iter().flatten() {
+        if !names.contains(&name.as_str()) {
+            names.push(name);
+        }
+    }
+    for name in names {
+        let of: Vec<(u32, u32)> = legs
+            .iter()
+            .flatten()
+            .filter(|(n, _, _)| n == name)
+            .map(|&(_, m, lb)| (m, lb))
+            .collect();
+        let at_bound = of.iter().filter(|(m, lb)| m == lb).count();
+        let makespans: Vec<f64> = of.iter().map(|&(m, _)| f64::from(m)).collect();
+        let bounds: Vec<f64> = of.iter().map(|&(_, lb)| f64::from(lb)).collect();
+        println!(
+            "  leg {name:<10}  {at_bound}/{} at the lower bound; median makespan {} (bound {})",
+            of.len(),
+            median(&makespans),
+            median(&bounds)
+        );
+    }
+}
+
 fn plan(suite: PlanSuite, seeds: u64, deadline: f64) -> anyhow::Result<ExitCode> {
     let deadline = Duration::try_from_secs_f64(deadline)?;
     let o = suite.options(1);
@@ -183,6 +211,7 @@ fn plan(suite: PlanSuite, seeds: u64, deadline: f64) -> anyhow::Result<ExitCode>
         );
         let nodes: Vec<f64> = report.ct_nodes.iter().map(|&n| n as f64).collect();
         println!("median CT nodes {}", median(&nodes));
+        print_legs(&report.legs);
     }
     if let Some(bytes) = peak_memory_bytes() {
         println!(

@@ -30,7 +30,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 fn print_summary(path: &std::path::Path, m: &mission::Mission) {
     let [x, y, z] = m.world.dimensions();
     let lower_bound = plan::makespan_lower_bound(m).map_or_else(
-        || "none (unmatched group)".to_string(),
+        || "none (no starts, or an unmatched group)".to_string(),
         |lb| format!("{lb} steps"),
     );
     println!("{}: valid mission {:?}", path.display(), m.name);
@@ -47,5 +47,6 @@ fn print_summary(path: &std::path::Path, m: &mission::Mission) {
         .collect();
     println!("  groups     {}: {}", m.groups.len(), sizes.join(", "));
     println!("  drones     {}", m.drone_count());
-    println!("  makespan   ≥ {lower_bound} (lower bound, collisions ignored)");
+    println!("  formation  ≥ {lower_bound} from the starts (lower bound, collisions ignored)");
+    super::pads::print_pads_and_legs(m);
 }

@@ -5,6 +5,7 @@ pub mod bench_flight;
 pub mod check;
 pub mod fly;
 pub mod generate;
+pub mod pads;
 pub mod plan;
 pub mod replay;
 pub mod sitl;

@@ -51,6 +51,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     print_solution(&input, &mission, &solution);
+    super::pads::print_pads_and_legs(&mission);
     let compiled = compiled::compile(&mission, &solution)
         .with_context(|| format!("scheduling {} (no plan file written)", input.display()))?;
     let c = &compiled.check;
@@ -122,15 +123,26 @@ fn print_solution(
         mission.groups.len()
     );
     println!(
-        "  makespan        {} steps (lower bound {}{})",
+        "  makespan        {} steps pad to pad in {} legs (legs' lower bounds add up to {}{})",
         p.makespan_steps,
+        p.legs.len(),
         s.initial_lower_bound_steps,
         if p.makespan_steps == s.initial_lower_bound_steps {
-            ", optimal by the bound"
+            "; every leg optimal by the bound"
         } else {
-            "; optimal by search"
+            "; every leg optimal by search"
         }
     );
+    for leg in &s.legs {
+        println!(
+            "  leg {:<11} {} steps (lower bound {}), {} nodes, {:.3} s",
+            leg.name,
+            leg.makespan_steps,
+            leg.lower_bound_steps,
+            leg.ct_nodes_expanded,
+            leg.time.as_secs_f64()
+        );
+    }
     println!("  sum of costs    {} steps", p.sum_of_costs_steps);
     println!(
         "  conflict tree   {} nodes expanded, {} generated; {} flow augmentations",

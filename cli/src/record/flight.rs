@@ -8,15 +8,18 @@ use swarmctl_viz::{
     Drone, FlightSample, Recorder, RecorderOptions, RecorderStats, Scene, TimeAxis,
 };
 
-/// The executor's event that starts the plan clock (see `fly::executor`).
-pub(crate) const PLAN_START_EVENT: &str = "all drones at their start";
+/// How logs written before launch pads named the start of the plan clock.
+const PLAN_STARTED_BEFORE_PADS: &str = "all drones at their start";
 
 /// When plan execution began, seconds after the first arm command: where plan
 /// time 0 falls on the flight's timeline. `None` if the plan never started.
 pub fn flight_plan_offset_s(log: &FlightLog) -> Option<f64> {
     log.events
         .iter()
-        .find(|e| e.message.starts_with(PLAN_START_EVENT))
+        .find(|e| {
+            e.message == swarmctl::fly::log::PLAN_STARTED
+                || e.message.starts_with(PLAN_STARTED_BEFORE_PADS)
+        })
         .map(|e| e.t_s)
 }
 

@@ -7,7 +7,7 @@
 //! Rerun calls happen on the recorder's own thread, which also keeps rerun's
 //! per-thread current time away from the executor's tasks.
 
-use super::{RecordError, Sink, flight::PLAN_START_EVENT, mission_scene, prepare};
+use super::{RecordError, Sink, mission_scene, prepare};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use swarmctl::fly::log::LogEvent;
@@ -47,7 +47,7 @@ impl FlightObserver for Tap {
     fn event(&self, event: &LogEvent) {
         self.handle
             .try_event(event.t_s, event.drone.as_deref(), &event.message);
-        if event.message.starts_with(PLAN_START_EVENT)
+        if event.message == swarmctl::fly::log::PLAN_STARTED
             && !self.plan_started.load(Ordering::Relaxed)
             && self.handle.try_plan_start(event.t_s)
         {

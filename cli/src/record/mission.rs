@@ -3,8 +3,9 @@
 use swarmctl::mission::Mission;
 use swarmctl_viz::{Bounds, Drone, Group, ObstacleBox, Scene};
 
-/// The static part of a recording: world box, obstacle voxels, groups and starts.
-/// Goals are those of the mission's groups in file order until a plan assigns them.
+/// The static part of a recording: world box, obstacle voxels, groups, and each
+/// drone's pad on the ground (its start marker: every flight begins there). Goals
+/// are those of the mission's groups in file order until a plan assigns them.
 pub fn mission_scene(mission: &Mission) -> Scene {
     let world = &mission.world;
     let s = world.voxel_size_m();
@@ -32,8 +33,11 @@ pub fn mission_scene(mission: &Mission) -> Scene {
         .map(|(g, group, i, d)| Drone {
             id: d.id.clone(),
             group: g,
-            start_m: center(d.start),
-            goal_m: group.goals.get(i).map_or(center(d.start), |v| center(*v)),
+            start_m: mission.pad_ground_m(d),
+            goal_m: group
+                .goals
+                .get(i)
+                .map_or(mission.pad_ground_m(d), |v| center(*v)),
             ..Drone::default()
         })
         .collect();

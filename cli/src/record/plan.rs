@@ -6,12 +6,55 @@ use swarmctl::mission::Mission;
 use swarmctl::schedule::{EventKind, ExecutionPlan};
 use swarmctl_viz::{Drone, PlanEvent, Scene, TimeAxis};
 
+/// The point on the ground below an ENU position.
+fn on_ground([x, y, _]: [f64; 3]) -> [f64; 3] {
+    [x, y, 0.0]
+}
+
 /// A dwell shorter than this is sampling noise, not a wait worth reading about.
 const MIN_WAIT_S: f64 = 1e-3;
 
 /// The mission's world with the plan's drones: goals as assigned, paths, trajectories.
 pub fn plan_scene(mission: &Mission, plan: &CompiledPlan) -> Scene {
-    drones_scene(mission, &plan.drones, &plan.execution)
+    let mut scene = drones_scene(mission, &plan.drones, &plan.execution);
+    scene.events.extend(leg_events(plan));
+    scene.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+    scene
+}
+
+/// The stage timeline: when the last drone comes to rest at the end of each leg
+/// (takeoff done, each formation formed, everyone down on the pad layer).
+fn leg_events(plan: &CompiledPlan) -> Vec<PlanEvent> {
+    plan.legs
+        .iter()
+        .map(|leg| {
+            let t_s = plan
+                .execution
+                .drones
+                .iter()
+                .filter_map(|d| {
+                    d.events
+                        .iter()
+                        .rev()
+                        .find(|e| e.step <= leg.end_step)
+                        .map(|e| e.reach_s)
+                })
+                .fold(0.0, f64::max);
+            let hold = if leg.hold_s > 0.0 {
+                format!(", holding {} s", leg.hold_s)
+            } else {
+                String::new()
+            };
+            PlanEvent {
+                t_s,
+                drone: None,
+                text: format!(
+                    "leg {:?} done: every drone in place ({} steps, lower bound {}){hold}",
+                    leg.name, leg.makespan_steps, leg.lower_bound_steps
+                ),
+            }
+        })
+        .collect()
 }
 
 /// The mission's world with `drones` (paths, trajectories) and the TPG waits of `execution`.
@@ -22,7 +65,7 @@ pub(crate) fn drones_scene(
 ) -> Scene {
     let mut scene = mission_scene(mission);
     let center = |v| {
-        let p = mission.world.center_m(v);
+        let p = mission.airspace.center_m(v);
         [p.x, p.y, p.z]
     };
     let group_of = |name: &str| {
@@ -45,8 +88,9 @@ pub(crate) fn drones_scene(
             Drone {
                 id: d.id.clone(),
                 group: group_of(&d.group),
-                start_m: d.path.first().map_or(center(d.goal), |v| center(*v)),
-                goal_m: center(d.goal),
+                // Pads are on the ground, below the pad layer the paths begin and end in.
+                start_m: on_ground(d.path.first().map_or(center(d.goal), |v| center(*v))),
+                goal_m: on_ground(center(d.goal)),
                 path_m,
                 trajectory: d.trajectory.clone(),
             }

@@ -182,8 +182,6 @@ impl Run<'_> {
                 .map_or(0, |l| l.drones.iter().map(|d| d.link_losses).sum()),
             ticks: flown.ticks,
             min_separation_telemetry_m: summary.map_or(f64::INFINITY, |s| s.min_separation_m),
-            min_separation_takeoff_landing_m: summary
-                .map_or(f64::INFINITY, |s| s.min_separation_takeoff_landing_m),
             min_separation_truth_m: watched.min_separation_m,
             safety_distance_m: self.mission.limits.safety_distance_m,
             peak_rss_bytes: resources::peak_rss_bytes().unwrap_or(0),

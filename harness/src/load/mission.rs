@@ -54,6 +54,7 @@ pub fn load_mission(vehicles: usize, seed: u64) -> Result<MissionFile, HarnessEr
             dimensions: [i64::from(side), i64::from(side), i64::from(LAYERS + 1)],
             voxel_size_m: 1.0,
             origin_m: [0.0, 0.0, 1.0],
+            pad_height_m: None,
             obstacles: Vec::new(),
         },
         limits: LimitsSpec {
@@ -63,6 +64,8 @@ pub fn load_mission(vehicles: usize, seed: u64) -> Result<MissionFile, HarnessEr
         },
         link: LinkSpec::default(),
         groups: group_specs,
+        stages: Vec::new(),
+        landing: None,
     })
 }
 
@@ -79,7 +82,7 @@ mod tests {
             let starts: Vec<[i64; 3]> = file
                 .groups
                 .iter()
-                .flat_map(|g| g.drones.iter().map(|d| d.start))
+                .flat_map(|g| g.drones.iter().filter_map(|d| d.start))
                 .collect();
             let goals: Vec<[i64; 3]> = file.groups.iter().flat_map(|g| g.goals.clone()).collect();
             for list in [&starts, &goals] {

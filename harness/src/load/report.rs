@@ -75,10 +75,8 @@ pub struct LoadReport {
     pub controller_link_losses: usize,
     /// The SITL physics ticker over the flight.
     pub ticks: TickStats,
-    /// Telemetry, during plan execution (∞ if fewer than two flew).
+    /// Telemetry, whole flight pad to pad (∞ if fewer than two flew).
     pub min_separation_telemetry_m: f64,
-    /// Telemetry, takeoff and landing.
-    pub min_separation_takeoff_landing_m: f64,
     /// Simulator truth, whole flight, airborne pairs.
     pub min_separation_truth_m: f64,
     /// The mission's safety distance, metres: what the separations must keep.
@@ -161,10 +159,6 @@ pub(super) fn vehicle_and_separation_failures(report: &LoadReport, failures: &mu
     let safety = report.safety_distance_m;
     for (what, m) in [
         ("telemetry", report.min_separation_telemetry_m),
-        (
-            "takeoff/landing telemetry",
-            report.min_separation_takeoff_landing_m,
-        ),
         ("true", report.min_separation_truth_m),
     ] {
         if m < safety {

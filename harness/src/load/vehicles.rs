@@ -44,7 +44,7 @@ impl VehiclesAfter {
             if s.armed {
                 after.still_armed.push(s.system_id);
             }
-            let goal = mission.world.center_m(drone.goal);
+            let goal = mission.airspace.center_m(drone.goal);
             let below_goal = frames::ned_f32_from_enu([goal.x, goal.y, 0.0]);
             let error_m = f64::from(
                 ((s.position_ned_m[0] - below_goal[0]).powi(2)

@@ -317,7 +317,7 @@ impl DroneRun {
         }
     }
 
-    /// A setpoint holding at the start voxel.
+    /// A setpoint holding above the pad (where the route begins).
     fn hold_start(&self) -> Setpoint {
         Setpoint {
             position_m: self.route.start_m,

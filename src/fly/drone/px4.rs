@@ -53,7 +53,7 @@ impl DroneRun {
         }
     }
 
-    /// Climbs along the vertical profile; at the start voxel once the profile is
+    /// Climbs along the vertical profile; above its pad once the profile is
     /// done and telemetry has settled there.
     pub(super) fn climb(&mut self, settings: &LoopSettings, now: Instant) {
         let Phase::Climb { t0, from_z_m } = self.phase else {

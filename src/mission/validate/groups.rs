@@ -1,11 +1,14 @@
 //! Groups, their drones and their goals: names and ids unique across the mission,
-//! every start and goal a free voxel used once, one goal per drone.
+//! every start and goal a free voxel used once, at least one goal per drone.
+//!
+//! Pads written in the file are read here (their placement, defaults and clashes
+//! are `pads`' job, once every drone is known).
 
 use super::fields::{check_drone_id, check_endpoint};
 use super::report::Report;
 use super::world::Bounds;
 use crate::mission::schema::{DroneSpec, GroupSpec, RawVoxel};
-use crate::mission::types::{Drone, Group};
+use crate::mission::types::{Drone, Group, PadSource};
 use crate::world::{Voxel, VoxelGrid};
 use std::collections::HashMap;
 
@@ -70,13 +73,24 @@ impl<'a> Checker<'a, '_> {
                 format!("group {:?} has no drones", g.name),
             );
         }
-        if g.goals.len() != g.drones.len() {
+        if g.goals.len() < g.drones.len() {
             self.report.add(
                 format!("{gpath}.goals"),
                 format!(
-                    "group {:?} has {} goal(s) for {} drone(s); give exactly one goal per drone",
+                    "group {:?} has {} goal(s) for {} drone(s); give at least one goal per drone",
                     g.name,
                     g.goals.len(),
+                    g.drones.len()
+                ),
+            );
+        }
+        let with_start = g.drones.iter().filter(|d| d.start.is_some()).count();
+        if with_start != 0 && with_start != g.drones.len() {
+            self.report.add(
+                format!("{gpath}.drones"),
+                format!(
+                    "group {:?}: {with_start} of its {} drones have a start; give every drone of a group a start, or none (then they fly from their pads straight to the goals)",
+                    g.name,
                     g.drones.len()
                 ),
             );
@@ -110,7 +124,10 @@ impl<'a> Checker<'a, '_> {
                 format!("drone id {:?} is already used by {first}", d.id),
             );
         }
-        let start = self.free_voxel(&format!("{dpath}.start"), d.start);
+        let start = match d.start {
+            Some(raw) => Some(self.free_voxel(&format!("{dpath}.start"), raw)?),
+            None => None,
+        };
         if let Some(v) = start
             && let Some(first) = self.seen.starts.insert(v, dpath.clone())
         {
@@ -119,13 +136,33 @@ impl<'a> Checker<'a, '_> {
                 format!("{v} is already the start of {first}"),
             );
         }
+        let pad = match d.pad {
+            Some(raw) => Some(self.pad(&format!("{dpath}.pad"), raw)?),
+            None => None,
+        };
+        if pad.is_none() && start.is_none() {
+            self.report.add(
+                dpath.clone(),
+                format!(
+                    "drone {:?} has neither a start nor a pad: give a pad [x, y] (where it stands) or a start voxel",
+                    d.id
+                ),
+            );
+        }
         if let Some(Err(why)) = d.endpoint.as_deref().map(check_endpoint) {
             self.report.add(format!("{dpath}.endpoint"), why);
         }
         let system_id = self.system_id(&dpath, d.system_id);
         Some(Drone {
             id: d.id.clone(),
-            start: start?,
+            start,
+            // Pads left out are chosen by `pads` once every drone is known.
+            pad: pad.unwrap_or([0, 0]),
+            pad_source: if pad.is_some() {
+                PadSource::Given
+            } else {
+                PadSource::Assigned
+            },
             endpoint: d.endpoint.clone(),
             system_id,
         })
@@ -152,6 +189,28 @@ impl<'a> Checker<'a, '_> {
         Some(vehicle_id)
     }
 
+    /// A written pad, when it lies within `PAD_REACH` voxels of the world's footprint.
+    fn pad(&mut self, path: &str, raw: [i64; 2]) -> Option<[i32; 2]> {
+        let reach = i64::from(super::pads::PAD_REACH);
+        let [dx, dy, _] = self.bounds.dimensions();
+        let ok = |c: i64, d: u32| c >= -reach && c < i64::from(d) + reach;
+        if ok(raw[0], dx) && ok(raw[1], dy) {
+            Some([raw[0] as i32, raw[1] as i32])
+        } else {
+            self.report.add(
+                path,
+                format!(
+                    "pad {raw:?} is too far from the world: pads lie at most {reach} voxels beside it (x from {} to {}, y from {} to {})",
+                    -reach,
+                    i64::from(dx) + reach - 1,
+                    -reach,
+                    i64::from(dy) + reach - 1
+                ),
+            );
+            None
+        }
+    }
+
     /// The goal at `kpath`, when it is a free voxel (a goal used twice is reported
     /// but kept, so the group's goal count stays as written).
     fn goal(&mut self, kpath: String, raw: RawVoxel) -> Option<Voxel> {
@@ -165,16 +224,6 @@ impl<'a> Checker<'a, '_> {
 
     /// The voxel at `raw` when it is inside the world and not an obstacle.
     fn free_voxel(&mut self, path: &str, raw: RawVoxel) -> Option<Voxel> {
-        match self.bounds.voxel(raw) {
-            None => {
-                self.report.add(path, self.bounds.outside(raw));
-                None
-            }
-            Some(v) if self.world.is_blocked(v) => {
-                self.report.add(path, format!("{v} is inside an obstacle"));
-                None
-            }
-            Some(v) => Some(v),
-        }
+        super::world::free_voxel(self.world, self.bounds, path, raw, self.report)
     }
 }

@@ -1,17 +1,20 @@
 //! Turns a parsed [`MissionFile`] into a [`Mission`], reporting every problem at once.
 //!
 //! The checks run in file order: the name, the world's extent and scale, the limits,
-//! the link, then the obstacles and the groups with their drones and goals, and last
-//! whether every drone can reach a goal of its group. Only the world's extent stops
+//! the link, then the obstacles, the groups with their drones and goals, the pads, the
+//! stages and the landing, and last whether every drone can reach every formation of
+//! its group from its pad. Only the world's extent stops
 //! the checks early, since nothing placed in the world can be checked without it; and
 //! reachability is only asked of a mission that is otherwise valid.
 
 mod bounds;
 mod fields;
 mod groups;
+mod pads;
 mod reachability;
 mod report;
 mod settings;
+mod stages;
 mod world;
 
 use super::error::Problem;
@@ -36,11 +39,18 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     };
     let bounds = world::Bounds::new(dimensions);
     let world = world::build(&file.world, &bounds, &mut report);
-    let groups = groups::check_groups(&file.groups, &world, &bounds, &mut report);
-    if !report.is_empty() {
+    let mut groups = groups::check_groups(&file.groups, &world, &bounds, &mut report);
+    let pad_height_m = pads::pad_height(&file.world, file.limits.safety_distance_m, &mut report);
+    pads::assign_pads(&mut groups, &mut report);
+    let stages = stages::check_stages(&file.stages, &groups, &world, &bounds, &mut report);
+    let landing = file.landing.unwrap_or_default();
+    let final_goals = super::legs::last_formations(&groups, &stages);
+    stages::check_landing(landing, &final_goals, &world, &mut report);
+    let Some(pad_height_m) = pad_height_m.filter(|_| report.is_empty()) else {
         return Err(report.into_problems());
-    }
-    reachability::check_reachability(&world, &groups, &mut report);
+    };
+    let airspace = pads::airspace(&world, pad_height_m, &groups);
+    reachability::check_reachability(&airspace, &groups, &stages, &mut report);
     if !report.is_empty() {
         return Err(report.into_problems());
     }
@@ -49,6 +59,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         name: file.name.clone(),
         description: file.description.clone(),
         world,
+        airspace,
         limits: Limits {
             max_speed_mps: limits.max_speed_mps,
             max_accel_mps2: limits.max_accel_mps2,
@@ -61,5 +72,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             signing,
         },
         groups,
+        stages,
+        landing,
     })
 }

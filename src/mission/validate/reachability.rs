@@ -1,49 +1,57 @@
-//! Whether every drone can reach a goal of its own group through free space.
+//! Whether every drone can reach, from its pad, every formation its group flies.
 
 use super::report::Report;
-use crate::mission::types::Group;
+use crate::mission::types::{Group, Stage};
 use crate::world::{Voxel, VoxelGrid};
-use std::collections::BTreeMap;
 
-/// Every drone must reach a distinct goal of its own group. Free space splits into
-/// connected components, and within one component every drone reaches every goal, so
-/// a group can be matched exactly when each component holds as many of its goals as
-/// of its drones (Hall's condition on a union of complete bipartite graphs).
-pub(super) fn check_reachability(world: &VoxelGrid, groups: &[Group], report: &mut Report) {
-    let label = world.components();
-    let component = |v: Voxel| world.cell(v).map(|c| label[c]);
+/// Every pad lies in the pad layer, which is one connected region of free space, so
+/// every drone starts in the same component; a group can fill a formation exactly
+/// when that component holds at least as many of the formation's voxels as the group
+/// has drones (Hall's condition on a complete bipartite graph). Checked for the
+/// group's starts, its goals and every stage's goals for it.
+pub(super) fn check_reachability(
+    airspace: &VoxelGrid,
+    groups: &[Group],
+    stages: &[Stage],
+    report: &mut Report,
+) {
+    let label = airspace.components();
+    let component = |v: Voxel| airspace.cell(v).map(|c| label[c]);
     for (gi, g) in groups.iter().enumerate() {
-        let mut balance: BTreeMap<Option<u32>, (Vec<usize>, usize)> = BTreeMap::new();
-        for (di, d) in g.drones.iter().enumerate() {
-            balance.entry(component(d.start)).or_default().0.push(di);
+        let Some(home) = g.drones.first().and_then(|d| component(d.pad_voxel())) else {
+            continue;
+        };
+        let starts: Vec<Voxel> = g.drones.iter().filter_map(|d| d.start).collect();
+        let mut sets: Vec<(String, &[Voxel])> = vec![
+            (format!("groups[{gi}].drones"), &starts[..]),
+            (format!("groups[{gi}].goals"), &g.goals[..]),
+        ];
+        for (si, s) in stages.iter().enumerate() {
+            if let Some(Some(goals)) = s.goals.get(gi) {
+                sets.push((format!("stages[{si}].goals.{}", g.name), &goals[..]));
+            }
         }
-        for &goal in &g.goals {
-            balance.entry(component(goal)).or_default().1 += 1;
-        }
-        for (drones, goal_count) in balance.values() {
-            if drones.len() <= *goal_count {
+        for (path, set) in sets {
+            if set.is_empty() {
                 continue;
             }
-            let ids: Vec<&str> = drones.iter().map(|&di| g.drones[di].id.as_str()).collect();
-            let path = if drones.len() == 1 {
-                format!("groups[{gi}].drones[{}]", drones[0])
-            } else {
-                format!("groups[{gi}]")
-            };
-            let message = if *goal_count == 0 {
-                format!(
-                    "group {:?}: drone(s) {} can reach no goal of their group (walled off by obstacles)",
-                    g.name,
-                    ids.join(", ")
-                )
-            } else {
-                format!(
-                    "group {:?}: drones {} share a region of free space with only {goal_count} of the group's goals, so they cannot all reach distinct goals",
-                    g.name,
-                    ids.join(", ")
-                )
-            };
-            report.add(path, message);
+            let reachable = set.iter().filter(|&&v| component(v) == Some(home)).count();
+            if reachable < g.drones.len() {
+                let walled: Vec<String> = set
+                    .iter()
+                    .filter(|&&v| component(v) != Some(home))
+                    .map(|v| v.to_string())
+                    .collect();
+                report.add(
+                    path,
+                    format!(
+                        "group {:?}: only {reachable} of these voxels can be reached from the pads, for {} drone(s); walled off by obstacles: {}",
+                        g.name,
+                        g.drones.len(),
+                        walled.join(", ")
+                    ),
+                );
+            }
         }
     }
 }

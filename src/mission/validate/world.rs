@@ -19,11 +19,16 @@ impl Bounds {
     /// The voxel at `raw`, or `None` when any coordinate lies outside the world.
     pub(super) fn voxel(&self, raw: RawVoxel) -> Option<Voxel> {
         let coordinate = |axis: usize| {
-            u32::try_from(raw[axis])
+            i32::try_from(raw[axis])
                 .ok()
-                .filter(|&c| c < self.dimensions[axis])
+                .filter(|&c| c >= 0 && (c as u32) < self.dimensions[axis])
         };
         Some(Voxel::new(coordinate(0)?, coordinate(1)?, coordinate(2)?))
+    }
+
+    /// Voxels along x, y and z.
+    pub(super) fn dimensions(&self) -> [u32; 3] {
+        self.dimensions
     }
 
     /// Why `raw` is rejected, with the range the user may write.
@@ -33,6 +38,28 @@ impl Bounds {
             self.dimensions,
             self.dimensions.map(|d| d - 1)
         )
+    }
+}
+
+/// The voxel at `raw` when it is inside the world and not an obstacle; otherwise
+/// reports why at `path`.
+pub(super) fn free_voxel(
+    world: &VoxelGrid,
+    bounds: &Bounds,
+    path: &str,
+    raw: RawVoxel,
+    report: &mut Report,
+) -> Option<Voxel> {
+    match bounds.voxel(raw) {
+        None => {
+            report.add(path, bounds.outside(raw));
+            None
+        }
+        Some(v) if world.is_blocked(v) => {
+            report.add(path, format!("{v} is inside an obstacle"));
+            None
+        }
+        Some(v) => Some(v),
     }
 }
 
