@@ -37,8 +37,8 @@ pub enum PadLayout {
     /// the nearest free one where starts share a column).
     #[default]
     Default,
-    /// A launch grid west of the world, one column of the world's depth after
-    /// another, written as explicit `pad` fields.
+    /// A launch area around the world (checkerboard rings, nearest first), written
+    /// as explicit `pad` fields.
     Beside,
 }
 
@@ -143,7 +143,7 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
     let goals: Vec<[i64; 3]> = goals.into_iter().map(to_raw).collect();
     let mut group_specs = split_into_groups(groups, &starts, &goals);
     if pads == PadLayout::Beside {
-        pads_beside(&mut group_specs, dimensions[1]);
+        pads_beside(&mut group_specs, dimensions);
     }
     let stage_specs = (1..=stages)
         .map(|k| random_stage(k, &group_specs, &mut free, &mut rng))
@@ -181,14 +181,28 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
     })
 }
 
-/// Writes explicit pads in a launch grid west of the world: columns of `depth`
-/// cells, one after another going west.
-fn pads_beside(groups: &mut [GroupSpec], depth: u32) {
-    let depth = i64::from(depth);
+/// Writes explicit pads in a launch area around the world: rings of growing
+/// distance from its footprint, on a checkerboard (no two pads face to face, so
+/// every pad keeps free cells beside it for drones to pass), nearest rings first.
+fn pads_beside(groups: &mut [GroupSpec], dimensions: [u32; 3]) {
+    let [dx, dy] = [i64::from(dimensions[0]), i64::from(dimensions[1])];
+    let mut cells = Vec::new();
+    let mut r = 1;
+    let drones: usize = groups.iter().map(|g| g.drones.len()).sum();
+    while cells.len() < drones {
+        for y in -r..dy + r {
+            for x in -r..dx + r {
+                let on_ring = x == -r || y == -r || x == dx + r - 1 || y == dy + r - 1;
+                if on_ring && (x + y).rem_euclid(2) == 0 {
+                    cells.push([x, y]);
+                }
+            }
+        }
+        r += 1;
+    }
     let all = groups.iter_mut().flat_map(|g| g.drones.iter_mut());
-    for (i, d) in all.enumerate() {
-        let i = i as i64;
-        d.pad = Some([-1 - i / depth, i % depth]);
+    for (d, cell) in all.zip(cells) {
+        d.pad = Some(cell);
     }
 }
 
@@ -305,7 +319,9 @@ mod tests {
             .flat_map(|g| g.drones.iter().filter_map(|d| d.pad))
             .collect();
         assert_eq!(pads.len(), 30);
-        assert!(pads.iter().all(|p| p[0] < 0 && (0..10).contains(&p[1])));
+        let outside = |p: &[i64; 2]| !((0..10).contains(&p[0]) && (0..10).contains(&p[1]));
+        assert!(pads.iter().all(outside), "{pads:?}");
+        assert!(pads.iter().all(|p| (p[0] + p[1]).rem_euclid(2) == 0));
         let mission = crate::mission::validate(&file).unwrap();
         assert_eq!(mission.stages.len(), 2);
         assert!(

@@ -23,16 +23,20 @@ pub struct Progress {
     pub observed_run: usize,
     /// Observed arc length along the route (monotone).
     pub observed_arc_m: f64,
+    /// When each of the events `0..reached` was observed reached, plan-clock seconds.
+    pub reached_at_s: Vec<f64>,
 }
 
 impl Progress {
-    /// Folds in a telemetry position (ENU) given the commanded arc and run.
+    /// Folds in a telemetry position (ENU) given the commanded arc and run, at
+    /// plan-clock time `t_s`.
     pub fn observe(
         &mut self,
         route: &Route,
         position_m: [f64; 3],
         commanded_arc_m: f64,
         commanded_run: usize,
+        t_s: f64,
     ) {
         while let Some(run) = route.runs.get(self.observed_run) {
             let along = run.project_m(position_m);
@@ -47,6 +51,7 @@ impl Progress {
         while let Some(e) = route.events.get(self.reached) {
             if arc >= e.arc_m - REACH_TOLERANCE_M {
                 self.reached += 1;
+                self.reached_at_s.push(t_s);
             } else {
                 break;
             }
@@ -57,16 +62,23 @@ impl Progress {
     pub fn has_reached(&self, index: u32) -> bool {
         (index as usize) < self.reached
     }
+
+    /// When event `index` was observed reached, plan-clock seconds.
+    pub fn reached_at_s(&self, index: u32) -> Option<f64> {
+        self.reached_at_s.get(index as usize).copied()
+    }
 }
 
 /// Arc length of the first event ahead of `commanded_arc_m` whose predecessors are
-/// not all reached (∞ if none), and the drone it waits for. `passed` counts the
-/// events already behind the commanded position (kept by the caller, monotone).
+/// not all reached, or reached less than its hold ago at plan-clock time `t_s`
+/// (∞ if none), and the drone it waits for. `passed` counts the events already
+/// behind the commanded position (kept by the caller, monotone).
 pub fn closed_gate(
     route: &Route,
     passed: &mut usize,
     all: &[Progress],
     commanded_arc_m: f64,
+    t_s: f64,
 ) -> (f64, Option<u32>) {
     const PASSED_EPS_M: f64 = 1e-6;
     while let Some(e) = route.events.get(*passed) {
@@ -80,6 +92,20 @@ pub fn closed_gate(
         if let Some(blocker) = e.after.iter().find(|id| !is_reached(all, **id)) {
             return (e.arc_m, Some(blocker.drone));
         }
+        if e.hold_s > 0.0 {
+            // The whole swarm is in formation: hold it for `hold_s` after the last
+            // of them arrived, as observed.
+            let last = e
+                .after
+                .iter()
+                .filter_map(|id| Some((all.get(id.drone as usize)?.reached_at_s(id.index)?, id)))
+                .max_by(|a, b| a.0.total_cmp(&b.0));
+            if let Some((at_s, id)) = last
+                && t_s < at_s + e.hold_s
+            {
+                return (e.arc_m, Some(id.drone));
+            }
+        }
     }
     (f64::INFINITY, None)
 }
@@ -87,4 +113,38 @@ pub fn closed_gate(
 fn is_reached(all: &[Progress], id: EventId) -> bool {
     all.get(id.drone as usize)
         .is_some_and(|p| p.has_reached(id.index))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fly::path::RouteEvent;
+
+    fn route(events: Vec<RouteEvent>) -> Route {
+        Route {
+            id: "a".into(),
+            start_m: [0.0; 3],
+            runs: Vec::new(),
+            events,
+        }
+    }
+
+    #[test]
+    fn a_hold_keeps_the_gate_closed_until_it_has_passed_since_the_last_arrival() {
+        let other = EventId { drone: 1, index: 0 };
+        let r = route(vec![RouteEvent {
+            arc_m: 0.0,
+            reach_s: 0.0,
+            after: vec![other],
+            hold_s: 2.0,
+        }]);
+        let mut all = vec![Progress::default(), Progress::default()];
+        let mut passed = 0;
+        // Not reached yet: closed, waiting for drone 1.
+        assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 5.0), (0.0, Some(1)));
+        all[1].reached = 1;
+        all[1].reached_at_s = vec![5.0];
+        assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 6.9), (0.0, Some(1)));
+        assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 7.0).1, None);
+    }
 }

@@ -95,8 +95,8 @@ pub async fn fly(
         settle_tolerance_m: options.settle_tolerance_m,
         execution_timeout_s: options.timeout_factor * planned_makespan_s + 30.0,
         safety_distance_m: l.safety_distance_m,
-        // Drones fly at voxel centres; the lowest layer's centre is at origin z.
-        ground_clear: mission.world.origin_m()[2] >= l.safety_distance_m,
+        // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
+        ground_clear: mission.pad_height_m() >= l.safety_distance_m,
     };
     let outcome = executor::run(
         &mut drones,

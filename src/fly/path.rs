@@ -61,6 +61,8 @@ pub struct RouteEvent {
     /// Events of other drones that must be observed reached before this drone may
     /// move past `arc_m`.
     pub after: Vec<EventId>,
+    /// Seconds to wait after the last of `after` was observed reached (a stage's hold).
+    pub hold_s: f64,
 }
 
 /// A drone's whole route: runs and events, both ordered along the path.
@@ -103,6 +105,7 @@ impl Route {
                 arc_m: event_arc_m(&runs, e.reach_s, e.position_m),
                 reach_s: e.reach_s,
                 after: e.after.clone(),
+                hold_s: e.hold_s,
             })
             .collect();
         Route {

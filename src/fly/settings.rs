@@ -18,7 +18,7 @@ pub struct LoopSettings {
     /// The mission's minimum separation: a drone descends only when no other is
     /// below it within this distance horizontally, metres.
     pub safety_distance_m: f64,
-    /// The ground lies below the voxel world by at least the safety distance, so a
-    /// landed drone is in nobody's way.
+    /// The ground lies below the pad layer, the airspace's lowest, by at least the
+    /// safety distance, so a drone landed out of the plan is in nobody's way.
     pub ground_clear: bool,
 }

@@ -30,12 +30,12 @@ pub enum PlanError {
     #[error("the conflict tree was exhausted without a plan")]
     NoSolution,
     /// Planning one leg of the flight failed.
-    #[error("leg {leg:?}: {source}")]
+    #[error("leg {leg:?}: {reason}")]
     Leg {
         /// The leg's name (`takeoff`, `formation`, a stage's name, `landing`).
         leg: String,
-        /// Why it failed.
-        source: Box<PlanError>,
+        /// Why it failed (part of the message, so not a `source`: it would print twice).
+        reason: Box<PlanError>,
     },
     /// A planner invariant broke; a bug, reported instead of panicking.
     #[error("internal planner error: {0}")]

@@ -120,7 +120,7 @@ pub fn solve_with_progress(
         let solved = solve_in_space(grid, &space, &tapf, &leg_options, progress).map_err(|e| {
             PlanError::Leg {
                 leg: leg.name.clone(),
-                source: Box::new(e),
+                reason: Box::new(e),
             }
         })?;
         for ((gi, di), group_paths) in owners.iter().zip(&solved.paths) {

@@ -28,6 +28,10 @@ pub struct ExecutionEvent {
     /// Events of other drones that must have been *reached* before this drone may move
     /// past this event's position.
     pub after: Vec<EventId>,
+    /// Seconds that must pass after the last of `after` was reached before this drone
+    /// moves past: a stage's hold (0 elsewhere).
+    #[serde(default)]
+    pub hold_s: f64,
 }
 
 /// One drone's gated event list.
@@ -69,14 +73,15 @@ pub fn execution_plan(tpg: &Tpg, schedule: &Schedule) -> ExecutionPlan {
                     leave_s: t.leave_s,
                     slack_s: t.slack_s,
                     after: Vec::new(),
+                    hold_s: 0.0,
                 })
                 .collect(),
         })
         .collect();
     for edge in &tpg.cross_edges {
-        drones[edge.to.drone as usize].events[edge.to.index as usize]
-            .after
-            .push(edge.from);
+        let to = &mut drones[edge.to.drone as usize].events[edge.to.index as usize];
+        to.after.push(edge.from);
+        to.hold_s = to.hold_s.max(edge.delay_s);
     }
     ExecutionPlan {
         makespan_s: schedule.makespan_s,

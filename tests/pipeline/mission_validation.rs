@@ -546,12 +546,20 @@ fn yaml_value() -> impl Strategy<Value = yaml_serde::Value> {
         "start",
         "endpoint",
         "system_id",
+        "pad",
+        "pad_height_m",
+        "stages",
+        "hold_s",
+        "landing",
+        "blue",
     ]);
     let leaf = prop_oneof![
         any::<i64>().prop_map(|i| yaml_serde::Value::from(i % 20)),
         any::<i64>().prop_map(yaml_serde::Value::from),
         any::<f64>().prop_map(yaml_serde::Value::from),
         "[a-z0-9:. ]{0,12}".prop_map(yaml_serde::Value::from),
+        prop::sample::select(vec!["group_pads", "own_pad", "below_goal"])
+            .prop_map(yaml_serde::Value::from),
         Just(yaml_serde::Value::Null),
         any::<bool>().prop_map(yaml_serde::Value::from),
     ];

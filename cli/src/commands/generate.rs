@@ -23,8 +23,9 @@ pub struct Args {
     /// Voxel edge length in metres.
     #[arg(long, default_value_t = 1.0)]
     voxel_size: f64,
-    /// Write explicit pads in a launch grid west of the world (default: no pads;
-    /// each drone's pad is then the cell below its start, or the nearest free one).
+    /// Write explicit pads in a launch area around the world, on a checkerboard
+    /// (default: no pads; each drone's pad is then the cell below its start, or the
+    /// nearest free one).
     #[arg(long)]
     pads_beside: bool,
     /// Random formations to fly after the first one, as `stages`.

@@ -22,7 +22,7 @@ impl DroneRun {
         if let Some(p) = self.position_m {
             let arc = self.follower.arc_m(&self.route, t_s);
             let run = self.follower.run_index();
-            self.progress.observe(&self.route, p, arc, run);
+            self.progress.observe(&self.route, p, arc, run, t_s);
         }
     }
 
@@ -44,7 +44,7 @@ impl DroneRun {
         }
         let arc = self.follower.arc_m(&self.route, t_s);
         let (gate_arc_m, blocker) =
-            closed_gate(&self.route, &mut self.passed_events, progress, arc);
+            closed_gate(&self.route, &mut self.passed_events, progress, arc, t_s);
         let rest_point = self.follower.setpoint(&self.route, t_s).position_m;
         let settled = self
             .position_m
