@@ -33,6 +33,8 @@ pub struct Outcome {
     pub closest_pair: Option<(String, String, f64)>,
     /// Highest telemetry speed over the whole flight, metres per second.
     pub max_speed_mps: f64,
+    /// The drone that flew fastest, and when (seconds since the first arm).
+    pub fastest: Option<(String, f64)>,
     /// Everything notable, in order, for the flight log.
     pub events: Vec<LogEvent>,
 }
@@ -280,13 +282,16 @@ impl<'a> Flight<'a> {
         }
     }
 
-    /// Lets each drone waiting to land descend once nothing is below it; a drone
+    /// Lets each drone waiting to land descend once telemetry shows it at rest and
+    /// nothing is below it (never on commanded motion alone: after an abort the
+    /// vehicle may still be braking behind its setpoint); a drone
     /// whose column stays blocked by one that will never move is handed to its
     /// autopilot.
     fn start_landings(&mut self, since_arm_s: f64) {
         let safety_distance_m = self.settings.safety_distance_m;
         for i in 0..self.drones.len() {
             if matches!(self.drones[i].phase(), Phase::AwaitLanding)
+                && self.drones[i].at_rest()
                 && contingency::column_blocker(self.drones, i, safety_distance_m).is_none()
             {
                 self.drones[i].begin_landing();
@@ -332,7 +337,10 @@ impl<'a> Flight<'a> {
             }
         }
         for d in drones {
-            out.max_speed_mps = out.max_speed_mps.max(d.speed_mps());
+            if d.speed_mps() > out.max_speed_mps {
+                out.max_speed_mps = d.speed_mps();
+                out.fastest = Some((d.id().to_string(), since_arm_s));
+            }
         }
     }
 

@@ -2,6 +2,11 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Telemetry speed may exceed the mission's limit by this fraction before the
+/// summary calls the limit broken: vehicles track setpoints with some overshoot,
+/// and telemetry velocity is a noisy estimate.
+pub const SPEED_TOLERANCE: f64 = 0.05;
+
 /// The event that starts the plan clock: every drone hovers above its pad.
 pub const PLAN_STARTED: &str = "all drones above their pads: executing the plan";
 
@@ -22,8 +27,8 @@ pub struct FlightLog {
 /// mission's limits, and which drones left the plan.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Summary {
-    /// Every drone flew its plan to its pad and landed, and the measured separation
-    /// never fell below the safety distance.
+    /// Every drone flew its plan to its pad and landed, the measured separation
+    /// never fell below the safety distance, and no drone broke the speed limit.
     pub completed: bool,
     /// The measured separation never fell below the safety distance.
     #[serde(default)]
@@ -46,6 +51,12 @@ pub struct Summary {
     pub safety_distance_m: f64,
     /// Highest speed reported by any drone's telemetry, over the whole flight.
     pub max_speed_mps: f64,
+    /// The drone that flew fastest, and when (seconds since the first arm).
+    #[serde(default)]
+    pub fastest: Option<(String, f64)>,
+    /// `max_speed_mps` stayed within the limit plus [`SPEED_TOLERANCE`].
+    #[serde(default)]
+    pub speed_held: bool,
     /// The mission's speed limit, to read `max_speed_mps` against.
     pub speed_limit_mps: f64,
     /// Times a drone stopped (or could not start) because a TPG predecessor was late.
@@ -163,15 +174,25 @@ impl Summary {
                     "held".to_string()
                 } else {
                     format!(
-                        "VIOLATED ({} < {:.3} m)",
+                        "VIOLATED ({} < {:.3} m{})",
                         separation_text(self.min_separation_m),
-                        self.safety_distance_m
+                        self.safety_distance_m,
+                        self.closest_pair
+                            .as_ref()
+                            .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
                     )
                 }
             ),
             format!(
-                "  max speed            {:.2} m/s (limit {:.2} m/s)",
-                self.max_speed_mps, self.speed_limit_mps
+                "  max speed            {:.2} m/s (limit {:.2} m/s, {:.0} % tolerance): {}{}",
+                self.max_speed_mps,
+                self.speed_limit_mps,
+                100.0 * SPEED_TOLERANCE,
+                if self.speed_held { "held" } else { "EXCEEDED" },
+                self.fastest
+                    .as_ref()
+                    .filter(|_| !self.speed_held)
+                    .map_or(String::new(), |(d, t)| format!(", {d} at {t:.1} s"))
             ),
             format!(
                 "  gating waits         {} ({:.1} s in total)",
@@ -210,6 +231,8 @@ mod tests {
             closest_pair: None,
             safety_distance_m: 0.25,
             max_speed_mps: 0.0,
+            fastest: None,
+            speed_held: true,
             speed_limit_mps: 1.0,
             gating_waits: 0,
             gating_wait_s: 0.0,
@@ -218,6 +241,23 @@ mod tests {
             retired: Vec::new(),
             handed_over: Vec::new(),
         }
+    }
+
+    #[test]
+    fn broken_limits_are_named_in_the_summary() {
+        let mut s = summary(0.2);
+        s.safety_held = false;
+        s.closest_pair = Some(("b3".into(), "b4".into(), 22.0));
+        s.max_speed_mps = 1.46;
+        s.speed_held = false;
+        s.fastest = Some(("r2".into(), 9.5));
+        let text = s.lines().join("\n");
+        assert!(
+            text.contains("safety               VIOLATED (0.200 m < 0.250 m, b3–b4 at 22.0 s)"),
+            "{text}"
+        );
+        assert!(text.contains("EXCEEDED, r2 at 9.5 s"), "{text}");
+        assert!(text.contains("completed            NO"), "{text}");
     }
 
     #[test]

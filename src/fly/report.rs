@@ -66,9 +66,13 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
     // Held also when nothing was measured (∞): no two drones were ever heard from.
     let safety_held = outcome.min_separation_m >= flown.limits.safety_distance_m;
     let all_landed = drones.iter().all(|d| matches!(d.phase(), Phase::Landed));
+    let speed_limit_mps = flown.limits.max_speed_mps;
+    let speed_held = outcome.max_speed_mps <= speed_limit_mps * (1.0 + super::log::SPEED_TOLERANCE);
     Summary {
-        completed: outcome.completed && all_landed && safety_held,
+        completed: outcome.completed && all_landed && safety_held && speed_held,
         safety_held,
+        speed_held,
+        fastest: outcome.fastest.clone(),
         duration_s: flown.duration_s,
         planned_makespan_s: flown.planned_makespan_s,
         executed_makespan_s: outcome.executed_makespan_s,

@@ -158,6 +158,14 @@ fn plan_recording_verifies_and_lists_the_plan() {
     assert_has(&entity_paths(&rrd), &plan_paths());
     assert_labelled(&rrd, "/world/plan/drones", &plan);
     assert_labelled(&rrd, "/metrics/plan/speed_mps", &plan);
+    // The stage timeline: one event per leg, as the last drone is in place.
+    let events = entity_dump(&rrd, "/events/plan");
+    for leg in ["takeoff", "formation", "landing"] {
+        assert!(
+            events.contains(&format!("leg \"{leg}\" done")),
+            "no event for leg {leg}:\n{events}"
+        );
+    }
 }
 
 /// A flight log that flew the plan exactly, 2 s after arming, plus one event.
@@ -173,6 +181,8 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         safety_held: true,
         safety_distance_m: 0.25,
         max_speed_mps: plan.check.max_speed_mps,
+        fastest: None,
+        speed_held: true,
         speed_limit_mps: 1.0,
         gating_waits: 0,
         gating_wait_s: 0.0,

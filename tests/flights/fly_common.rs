@@ -61,6 +61,7 @@ pub fn assert_success(log: &FlightLog) {
     }
     assert!(s.completed, "flight did not complete: {:?}", log.events);
     assert!(s.safety_held, "safety not held");
+    assert!(s.speed_held, "speed limit not held");
     assert!(
         s.min_separation_m >= s.safety_distance_m,
         "separation {} m below safety distance {} m",

@@ -92,7 +92,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(recording) = recording {
         finish_recording(recording, &log);
     }
-    let ok = log.summary.completed && log.summary.min_separation_m >= log.summary.safety_distance_m;
+    // `completed` already requires the separation and the speed limit held; both
+    // are checked again here so that a broken limit can never exit 0.
+    let s = &log.summary;
+    let ok = s.completed && s.safety_held && s.speed_held;
     Ok(if ok {
         ExitCode::SUCCESS
     } else {

@@ -5,7 +5,6 @@
 use super::DroneRun;
 use crate::fly::command::Command;
 use crate::fly::log::LogEvent;
-use crate::fly::path::distance_m;
 use crate::fly::phase::{FailReason, Phase, Request};
 use crate::fly::settings::LoopSettings;
 
@@ -50,10 +49,7 @@ impl DroneRun {
             .is_some_and(|p| p[2] >= start_m[2] - TAKEOFF_NEAR_M)
         {
             self.last_setpoint = Some(self.hold_start());
-            if self
-                .position_m
-                .is_some_and(|p| distance_m(p, start_m) <= settings.settle_tolerance_m)
-            {
+            if self.settled_at(start_m, settings.settle_tolerance_m) {
                 self.phase = Phase::AtStart;
             }
         }

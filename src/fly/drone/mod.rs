@@ -10,6 +10,7 @@ mod ardupilot;
 mod landing;
 mod plan;
 mod px4;
+mod settle;
 
 use super::command::{Command, CommandError, CommandSender};
 use super::follower::{Follower, Setpoint};
@@ -74,6 +75,8 @@ pub struct DroneRun {
     /// The drone (plan order) this one waits for at a closed gate.
     waiting_for: Option<u32>,
     final_distance_to_goal_m: Option<f64>,
+    /// Since when telemetry has shown it where it is going and at rest (see `settle`).
+    settled_since: Option<Instant>,
     /// Last setpoint streamed (held during takeoff phases and aborts).
     last_setpoint: Option<Setpoint>,
     commands: CommandSender,
@@ -121,6 +124,7 @@ impl DroneRun {
             gating_wait_s: 0.0,
             waiting_for: None,
             final_distance_to_goal_m: None,
+            settled_since: None,
             last_setpoint: None,
             commands,
         }

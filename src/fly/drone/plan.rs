@@ -68,9 +68,7 @@ impl DroneRun {
         self.last_setpoint = Some(setpoint);
         if matches!(self.phase, Phase::Flying)
             && self.follower.finished(&self.route)
-            && self
-                .position_m
-                .is_some_and(|p| distance_m(p, self.route.goal_m()) <= settings.settle_tolerance_m)
+            && self.settled_at(self.route.goal_m(), settings.settle_tolerance_m)
         {
             self.phase = Phase::AtGoal;
         }

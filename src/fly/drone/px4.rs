@@ -6,7 +6,6 @@ use super::DroneRun;
 use crate::fly::command::Command;
 use crate::fly::follower::Setpoint;
 use crate::fly::log::LogEvent;
-use crate::fly::path::distance_m;
 use crate::fly::phase::{FailReason, Phase, Request};
 use crate::fly::settings::LoopSettings;
 use crate::link::Flavour;
@@ -76,11 +75,7 @@ impl DroneRun {
             ],
             velocity_mps: [0.0, 0.0, sign * profile.speed_at_mps(tau)],
         });
-        if tau >= profile.duration_s()
-            && self
-                .position_m
-                .is_some_and(|p| distance_m(p, start_m) <= settings.settle_tolerance_m)
-        {
+        if tau >= profile.duration_s() && self.settled_at(start_m, settings.settle_tolerance_m) {
             self.phase = Phase::AtStart;
         }
     }
