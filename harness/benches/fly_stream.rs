@@ -22,7 +22,7 @@ use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use swarmctl::fly::{self, FlyOptions, VehicleLink};
+use swarmctl::fly::{self, VehicleLink};
 use swarmctl::plan::{self, DiscretePlan};
 use swarmctl_harness::resources;
 
@@ -87,7 +87,7 @@ fn sender(
             system_id: i as u8 + 1,
         })
         .collect();
-    let options = FlyOptions::new(links);
+    let options = swarmctl_harness::bundled_sitl::fly_options(links);
 
     // Same runtime as `swarmctl fly` (multi-threaded, one worker per core).
     let runtime = tokio::runtime::Runtime::new()?;

@@ -11,6 +11,18 @@ use swarmctl::mission::Mission;
 use swarmctl::plan::DiscretePlan;
 use swarmctl_sitl::{Faults, Flavour, GeoPoint, LinkDrop, Swarm, VehicleConfig};
 
+/// The bundled vehicles report a position and their pre-arm state at once: a
+/// vehicle not ready this soon will not become ready (a `refuse-arm` fault).
+pub const READY_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Flight options for the bundled vehicles at `links`: the defaults, with the
+/// bundled simulator's [`READY_TIMEOUT`].
+pub fn fly_options(links: Vec<VehicleLink>) -> swarmctl::fly::FlyOptions {
+    let mut options = swarmctl::fly::FlyOptions::new(links);
+    options.ready_timeout = READY_TIMEOUT;
+    options
+}
+
 /// A low battery turns critical (and the autopilot lands) this long after the warning.
 const CRITICAL_AFTER_LOW: Duration = Duration::from_secs(45);
 

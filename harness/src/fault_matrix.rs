@@ -11,7 +11,7 @@
 use crate::HarnessError;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
-use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError, FlyOptions};
+use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError};
 use swarmctl::mission::Mission;
 use swarmctl::plan::DiscretePlan;
 use swarmctl_sitl::{Flavour, Swarm};
@@ -177,7 +177,7 @@ pub async fn run_scenario(
         .collect::<Result<_, _>>()?;
     let configs = crate::bundled_sitl::vehicle_configs(mission, plan, scenario.flavour, &faults)?;
     let (swarm, links) = crate::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
-    let options = FlyOptions::new(links);
+    let options = crate::bundled_sitl::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let started = std::time::Instant::now();
     let done = AtomicBool::new(false);

@@ -132,6 +132,19 @@ impl Vehicle {
         }
     }
 
+    /// Runs the pre-arm checks again: a failing one is explained by STATUSTEXT, in
+    /// the words of the autopilot imitated.
+    fn run_prearm_checks(&mut self) -> MavResult {
+        if self.config.faults.refuse_arm {
+            let text = match self.config.flavour {
+                Flavour::ArduPilot => "PreArm: simulated check failure (refuse-arm fault)",
+                Flavour::Px4 => "Preflight Fail: simulated check failure (refuse-arm fault)",
+            };
+            self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, text);
+        }
+        MavResult::MAV_RESULT_ACCEPTED
+    }
+
     #[allow(deprecated)]
     fn execute(&mut self, command: MavCmd, p: CommandParams) -> MavResult {
         let [p1, p2, p3, _, _, _, p7] = p.0;
@@ -158,6 +171,7 @@ impl Vehicle {
             MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES | MavCmd::MAV_CMD_GET_HOME_POSITION => {
                 MavResult::MAV_RESULT_ACCEPTED
             }
+            MavCmd::MAV_CMD_RUN_PREARM_CHECKS => self.run_prearm_checks(),
             MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL => {
                 let ok = p1.is_finite() && p1 >= 0.0 && self.streams.set_interval(p1 as u32, p2);
                 if ok {

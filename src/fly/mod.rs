@@ -65,6 +65,7 @@ pub async fn fly(
         .collect();
     let limits = preflight::PreflightLimits {
         heartbeat_timeout: options.heartbeat_timeout,
+        ready_timeout: options.ready_timeout,
         start_tolerance_m: options.start_tolerance_m,
         position_rate_hz: mission.link.setpoint_rate_hz,
     };

@@ -21,6 +21,10 @@ pub struct FlyOptions {
     pub vehicles: Vec<VehicleLink>,
     /// How long pre-flight waits for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
+    /// How long pre-flight waits for each vehicle to be ready to arm: a position in
+    /// telemetry and its pre-arm checks passing (real autopilots need some 40 s
+    /// after boot for EKF and GPS). Past it, pre-flight says per drone what is missing.
+    pub ready_timeout: Duration,
     /// Horizontal distance allowed between a vehicle and its pad.
     pub start_tolerance_m: f64,
     /// Telemetry this close to a commanded rest point counts as arrived.
@@ -42,6 +46,7 @@ impl std::fmt::Debug for FlyOptions {
         f.debug_struct("FlyOptions")
             .field("vehicles", &self.vehicles)
             .field("heartbeat_timeout", &self.heartbeat_timeout)
+            .field("ready_timeout", &self.ready_timeout)
             .field("start_tolerance_m", &self.start_tolerance_m)
             .field("settle_tolerance_m", &self.settle_tolerance_m)
             .field("timeout_factor", &self.timeout_factor)
@@ -60,6 +65,7 @@ impl FlyOptions {
         Self {
             vehicles,
             heartbeat_timeout: Duration::from_secs(5),
+            ready_timeout: Duration::from_secs(60),
             start_tolerance_m: 0.3,
             settle_tolerance_m: 0.05,
             timeout_factor: 4.0,

@@ -13,6 +13,9 @@ use tokio::task::JoinSet;
 pub struct PreflightLimits {
     /// How long to wait for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
+    /// How long to wait for each vehicle to be ready: position telemetry and pre-arm
+    /// checks passing.
+    pub ready_timeout: Duration,
     /// Horizontal distance allowed between a vehicle and its pad.
     pub start_tolerance_m: f64,
     /// Rate at which position telemetry is requested.
@@ -34,14 +37,7 @@ async fn check_one(
         .request_rates(limits.position_rate_hz)
         .await
         .map_err(|e| format!("{id}: cannot set telemetry rates: {e}"))?;
-    session
-        .confirm(
-            "position and health telemetry",
-            Duration::from_secs(3),
-            |s| s.position.is_some() && s.prearm_ok.is_some(),
-        )
-        .await
-        .map_err(|e| format!("{id}: {e}"))?;
+    wait_ready(&id, &session, limits.ready_timeout).await?;
     let (position, prearm_ok, armed, reason) = {
         let s = session.state();
         (
@@ -49,7 +45,9 @@ async fn check_one(
                 .map(|p| frames::enu_from_ned_f32(p.position_ned_m)),
             s.prearm_ok.unwrap_or(false),
             s.armed,
-            s.last_status_text.clone(),
+            s.prearm_reason
+                .clone()
+                .or_else(|| s.last_status_text.clone()),
         )
     };
     if armed {
@@ -79,6 +77,49 @@ async fn check_one(
         ));
     }
     Ok(flavour)
+}
+
+/// Waits until the vehicle reports a position and passing pre-arm checks, as real
+/// autopilots do only once EKF and GPS have converged. When the checks first fail
+/// it asks the autopilot to run them again, so it says why (STATUSTEXT). At the
+/// deadline, says what is missing.
+async fn wait_ready(id: &str, session: &Session, within: Duration) -> Result<(), String> {
+    let started = std::time::Instant::now();
+    let mut asked = false;
+    loop {
+        let (position, prearm_ok) = {
+            let s = session.state();
+            (s.position.is_some(), s.prearm_ok)
+        };
+        if position && prearm_ok == Some(true) {
+            return Ok(());
+        }
+        if prearm_ok == Some(false) && !asked {
+            asked = true;
+            // Unsupported (PX4, the mock without a failing check) is fine: the
+            // reason, if any, comes by STATUSTEXT either way.
+            let _ = session.run_prearm_checks().await;
+        }
+        if started.elapsed() >= within {
+            let mut missing = Vec::new();
+            if !position {
+                missing.push("no position telemetry".to_string());
+            }
+            // Failing checks are reported with their reason by the caller.
+            if prearm_ok.is_none() {
+                missing.push("no SYS_STATUS (health unknown)".to_string());
+            }
+            if missing.is_empty() {
+                return Ok(());
+            }
+            return Err(format!(
+                "{id}: not ready after {:.0} s: {}",
+                within.as_secs_f64(),
+                missing.join(", ")
+            ));
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
 }
 
 /// Runs every check concurrently and returns each vehicle's flavour, or every failure.

@@ -111,6 +111,11 @@ pub fn fold(
         }
         MavMessage::STATUSTEXT(t) => {
             state.last_status_text = t.text.to_str().ok().map(str::to_string);
+            if let Some(text) = &state.last_status_text
+                && is_prearm_reason(text)
+            {
+                state.prearm_reason = Some(text.clone());
+            }
         }
         MavMessage::COMMAND_ACK(a) if addressed_to_us(&a) => return Some(a),
         _ => {}
@@ -120,6 +125,13 @@ pub fn fold(
 
 /// A sample stamped `time_boot_ms` is older than the newest accepted one, and not
 /// so much older that it must be a reboot.
+/// A STATUSTEXT explaining a pre-arm failure: ArduPilot's "PreArm: …" and PX4's
+/// "Preflight Fail: …" (either case).
+fn is_prearm_reason(text: &str) -> bool {
+    let lower = text.to_ascii_lowercase();
+    lower.starts_with("prearm") || lower.starts_with("preflight fail")
+}
+
 fn is_stale(newest_ms: Option<u32>, time_boot_ms: u32) -> bool {
     newest_ms
         .is_some_and(|newest| time_boot_ms < newest && newest - time_boot_ms < REBOOT_BACKSTEP_MS)
@@ -334,6 +346,9 @@ mod tests {
         fold(&mut s, &autopilot(), status(73, true), VEHICLE, now);
         assert_eq!(s.battery_remaining_pct, Some(73));
         assert_eq!(s.prearm_ok, Some(true));
+        assert!(is_prearm_reason("PreArm: Need Position Estimate"));
+        assert!(is_prearm_reason("Preflight Fail: ekf2 missing data"));
+        assert!(!is_prearm_reason("Arming denied: not landed"));
         fold(&mut s, &autopilot(), status(-1, false), VEHICLE, now);
         assert_eq!(s.battery_remaining_pct, None);
         assert_eq!(s.prearm_ok, Some(false));

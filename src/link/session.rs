@@ -263,6 +263,14 @@ impl Session {
         .await
     }
 
+    /// Asks the autopilot to run its pre-arm checks now, which makes it repeat why
+    /// they fail in STATUSTEXT (ArduPilot; PX4 answers unsupported, and says why on
+    /// its own).
+    pub async fn run_prearm_checks(&self) -> Result<(), LinkError> {
+        self.command(MavCmd::MAV_CMD_RUN_PREARM_CHECKS, [0.0; 7])
+            .await
+    }
+
     /// Waits until `ok` holds on the vehicle state.
     pub async fn confirm(
         &self,

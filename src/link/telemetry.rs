@@ -48,6 +48,9 @@ pub struct VehicleState {
     pub battery_remaining_pct: Option<i8>,
     /// The latest STATUSTEXT: autopilots explain refusals there.
     pub last_status_text: Option<String>,
+    /// The latest STATUSTEXT about pre-arm checks (ArduPilot's "PreArm: …", PX4's
+    /// "Preflight Fail: …"): why the vehicle will not arm.
+    pub prearm_reason: Option<String>,
     /// Every position sample received, for the flight log (when recording is on).
     pub track: Vec<PositionSample>,
     /// Append every position sample to `track` (on from arming, for the flight log).

@@ -3,7 +3,7 @@
 #![allow(dead_code)] // each test uses a different subset
 
 use std::time::Duration;
-use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError, FlyOptions};
+use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError};
 use swarmctl::mission::{self, Mission};
 use swarmctl::plan::{self, DiscretePlan};
 use swarmctl_sitl::Flavour;
@@ -35,7 +35,7 @@ pub async fn fly_bundled(
         swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz)
             .await
             .expect("sitl");
-    let options = FlyOptions::new(links);
+    let options = swarmctl_harness::bundled_sitl::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let result = tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort_rx))
         .await

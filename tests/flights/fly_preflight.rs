@@ -1,5 +1,6 @@
-//! A vehicle that fails its pre-arm checks stops the flight before anybody arms,
-//! and the error names it; bad fault flags are rejected with the flag named.
+//! A vehicle that fails its pre-arm checks stops the flight before anybody arms
+//! (after waiting the readiness deadline for it to pass), and the error names it
+//! with the autopilot's own reason; bad fault flags are rejected with the flag named.
 
 use crate::fly_common::*;
 use std::time::Duration;
@@ -22,6 +23,13 @@ async fn refused_arming_aborts_with_nobody_airborne() {
         Err(FlyError::Preflight(lines)) => {
             assert!(lines.iter().any(|l| l.contains("r2")), "{lines:?}");
             assert_eq!(lines.len(), 1, "only r2 fails: {lines:?}");
+            // The autopilot's own reason, asked for with MAV_CMD_RUN_PREARM_CHECKS.
+            assert!(
+                lines[0].contains(
+                    "pre-arm checks fail (SYS_STATUS): Preflight Fail: simulated check failure"
+                ),
+                "{lines:?}"
+            );
         }
         other => panic!(
             "expected a pre-flight failure, got {:?}",

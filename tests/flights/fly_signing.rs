@@ -9,7 +9,7 @@ use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
-use swarmctl::fly::{self, FlyError, FlyOptions};
+use swarmctl::fly::{self, FlyError};
 use swarmctl::link::SigningKey;
 use swarmctl_sitl::forge::{self, Signature};
 use swarmctl_sitl::{Flavour, Swarm};
@@ -132,7 +132,7 @@ async fn unsigned_third_party_commands_are_refused_while_the_signed_swarm_flies(
             }
         })
     };
-    let mut options = FlyOptions::new(links);
+    let mut options = swarmctl_harness::bundled_sitl::fly_options(links);
     options.signing_key = Some(key);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let log = tokio::time::timeout(
@@ -162,7 +162,7 @@ async fn unsigned_third_party_commands_are_refused_while_the_signed_swarm_flies(
 async fn a_controller_without_the_key_cannot_arm_a_signed_swarm() {
     let key = SigningKey::from_hex(&"a5".repeat(32)).expect("key");
     let (mission, plan, swarm, links) = signed_swarm(&key).await;
-    let options = FlyOptions::new(links);
+    let options = swarmctl_harness::bundled_sitl::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let result = tokio::time::timeout(
         Duration::from_secs(60),

@@ -23,6 +23,11 @@ pub struct Args {
     /// Autopilot the bundled SITL imitates (default: the mission's `link.autopilot`).
     #[arg(long, value_parser = ["px4", "ardupilot"])]
     autopilot: Option<String>,
+    /// Seconds pre-flight waits for every vehicle to report a position and pass its
+    /// pre-arm checks (default 60: real autopilots need about 40 s after boot for
+    /// EKF and GPS; 5 on the bundled simulator, whose vehicles are ready at once).
+    #[arg(long, value_name = "SECONDS")]
+    ready_timeout: Option<f64>,
     /// Bundled SITL fault, repeatable: loss=10%, latency=50ms, slow=DRONE_ID:0.5,
     /// drop=DRONE_ID@5s+3s, refuse-arm=DRONE_ID.
     #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
@@ -120,6 +125,11 @@ async fn fly_async(
     let signing_key = source.as_ref().map(SigningKey::load).transpose()?;
     let (vehicles, swarm) = vehicles(args, mission, plan, signing_key.as_ref()).await?;
     let mut options = FlyOptions::new(vehicles);
+    let ready_s = args
+        .ready_timeout
+        .unwrap_or(if swarm.is_some() { 5.0 } else { 60.0 });
+    options.ready_timeout = std::time::Duration::try_from_secs_f64(ready_s)
+        .map_err(|_| anyhow::anyhow!("--ready-timeout must be a non-negative number of seconds"))?;
     options.observers.extend(observer);
     let status = Arc::new(StatusView::new(if args.plain {
         StatusMode::Plain

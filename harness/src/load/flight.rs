@@ -8,7 +8,7 @@ use crate::{HarnessError, bundled_sitl, resources};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
-use swarmctl::fly::{self, FlightLog, FlyError, FlyOptions, VehicleLink};
+use swarmctl::fly::{self, FlightLog, FlyError, VehicleLink};
 use swarmctl::mission::Mission;
 use swarmctl::plan::DiscretePlan;
 use swarmctl_sitl::{Swarm, TickStats};
@@ -87,7 +87,7 @@ fn fly_watched(
     links: Vec<VehicleLink>,
     options: &LoadOptions,
 ) -> Result<Flown, HarnessError> {
-    let fly_options = FlyOptions::new(links);
+    let fly_options = crate::bundled_sitl::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let done = Arc::new(AtomicBool::new(false));
     let watcher = {
