@@ -93,6 +93,9 @@ pub async fn run(
             d.stream_setpoint().await;
         }
         flight.measure(since_arm_s);
+        for d in flight.drones.iter_mut() {
+            d.sample_tracking();
+        }
         flight.start_plan_clock(now, since_arm_s);
         flight.end_plan(now, t_exec_s, since_arm_s);
         if flight.landing_started {

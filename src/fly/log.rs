@@ -63,6 +63,9 @@ pub struct Summary {
     pub gating_waits: usize,
     /// Total time drones spent waiting at a closed gate, seconds.
     pub gating_wait_s: f64,
+    /// The drone with the largest 95th-percentile tracking error, and that error.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worst_tracking: Option<(String, TrackingError)>,
     /// Largest final distance from a drone to the pad-layer cell it lands from
     /// (before touchdown), metres.
     pub max_final_distance_to_goal_m: f64,
@@ -99,8 +102,22 @@ pub struct DroneLog {
     pub gating_wait_s: f64,
     /// Times its link was lost (nothing heard for the mission's link timeout).
     pub link_losses: usize,
+    /// Telemetry against the streamed setpoint while it flew on our setpoints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tracking_error: Option<TrackingError>,
     /// Telemetry samples `[t_s, x_m, y_m, z_m]` (ENU; t from the first arm command).
     pub samples: Vec<[f64; 4]>,
+}
+
+/// How closely a vehicle followed the setpoints streamed to it, metres.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TrackingError {
+    /// Half the samples were closer than this.
+    pub median_m: f64,
+    /// 95 % of the samples were closer than this.
+    pub p95_m: f64,
+    /// The largest distance seen.
+    pub max_m: f64,
 }
 
 /// A notable moment of the flight: a link loss, an abort, a refusal.
@@ -194,6 +211,13 @@ impl Summary {
                     .filter(|_| !self.speed_held)
                     .map_or(String::new(), |(d, t)| format!(", {d} at {t:.1} s"))
             ),
+            match &self.worst_tracking {
+                Some((id, t)) => format!(
+                    "  tracking error       worst {id}: median {:.3} m, p95 {:.3} m, max {:.3} m (telemetry to setpoint)",
+                    t.median_m, t.p95_m, t.max_m
+                ),
+                None => "  tracking error       none measured".to_string(),
+            },
             format!(
                 "  gating waits         {} ({:.1} s in total)",
                 self.gating_waits, self.gating_wait_s
@@ -237,6 +261,7 @@ mod tests {
             gating_waits: 0,
             gating_wait_s: 0.0,
             max_final_distance_to_goal_m: 0.0,
+            worst_tracking: None,
             lost: Vec::new(),
             retired: Vec::new(),
             handed_over: Vec::new(),

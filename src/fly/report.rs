@@ -45,6 +45,7 @@ pub fn drone_logs(
                 gating_waits: d.gating_waits(),
                 gating_wait_s: d.gating_wait_s(),
                 link_losses: d.link_losses(),
+                tracking_error: d.tracking_error(),
                 samples: s
                     .track
                     .iter()
@@ -86,6 +87,10 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
         lost: ids_where(drones, |d| matches!(d.phase(), Phase::Lost { .. })),
         retired: ids_where(drones, |d| d.retired().is_some()),
         handed_over: ids_where(drones, |d| matches!(d.phase(), Phase::HandedOver { .. })),
+        worst_tracking: logs
+            .iter()
+            .filter_map(|d| d.tracking_error.map(|t| (d.id.clone(), t)))
+            .max_by(|a, b| a.1.p95_m.total_cmp(&b.1.p95_m)),
         max_final_distance_to_goal_m: logs
             .iter()
             .filter_map(|d| d.final_distance_to_goal_m)

@@ -187,6 +187,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         gating_waits: 0,
         gating_wait_s: 0.0,
         max_final_distance_to_goal_m: 0.0,
+        worst_tracking: None,
         lost: Vec::new(),
         retired: Vec::new(),
         handed_over: Vec::new(),
@@ -205,6 +206,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
             gating_waits: 0,
             gating_wait_s: 0.0,
             link_losses: 0,
+            tracking_error: None,
             samples: d
                 .trajectory
                 .iter()

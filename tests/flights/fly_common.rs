@@ -82,5 +82,19 @@ pub fn assert_success(log: &FlightLog) {
     );
     for d in &log.drones {
         assert!(!d.samples.is_empty(), "{} has telemetry samples", d.id);
+        // The bundled vehicles track their setpoints closely; a real one is measured
+        // the same way and reported.
+        let t = d
+            .tracking_error
+            .unwrap_or_else(|| panic!("{} has no tracking error", d.id));
+        assert!(
+            t.median_m <= t.p95_m && t.p95_m <= t.max_m,
+            "{}: {t:?}",
+            d.id
+        );
     }
+    assert!(
+        s.worst_tracking.is_some(),
+        "the summary names the worst tracker"
+    );
 }

@@ -11,6 +11,7 @@ mod landing;
 mod plan;
 mod px4;
 mod settle;
+mod tracking;
 
 use super::command::{Command, CommandError, CommandSender};
 use super::follower::{Follower, Setpoint};
@@ -75,6 +76,8 @@ pub struct DroneRun {
     /// The drone (plan order) this one waits for at a closed gate.
     waiting_for: Option<u32>,
     final_distance_to_goal_m: Option<f64>,
+    /// Distances from telemetry to the streamed setpoint, metres (see `tracking`).
+    tracking_m: Vec<f64>,
     /// Since when telemetry has shown it where it is going and at rest (see `settle`).
     settled_since: Option<Instant>,
     /// Last setpoint streamed (held during takeoff phases and aborts).
@@ -125,6 +128,7 @@ impl DroneRun {
             waiting_for: None,
             final_distance_to_goal_m: None,
             settled_since: None,
+            tracking_m: Vec::new(),
             last_setpoint: None,
             commands,
         }
