@@ -30,7 +30,7 @@ impl DroneRun {
         now.duration_since(since) >= SETTLE_HOLD
     }
 
-    /// Telemetry shows the drone at rest (see [`REST_SPEED_MPS`]).
+    /// Telemetry shows the drone at rest: at most 0.15 m/s (`REST_SPEED_MPS`).
     pub fn at_rest(&self) -> bool {
         self.speed_mps <= REST_SPEED_MPS
     }
