@@ -32,6 +32,7 @@ pub fn lanes(drones: usize, seed: u64) -> (VoxelGrid, Limits, DiscretePlan) {
         max_speed_mps: 1.0,
         max_accel_mps2: 2.0,
         safety_distance_m: 0.25,
+        tracking_error_m: 0.0,
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut paths: Vec<Vec<Voxel>> = Vec::with_capacity(drones);

@@ -164,6 +164,7 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
             // (higher for big voxels, so the pad layer below keeps the safety distance).
             origin_m: [0.0, 0.0, 1.0_f64.max(0.5 * voxel_size_m)],
             pad_height_m: None,
+            geo_origin: None,
             obstacles: world
                 .obstacles()
                 .map(|v| ObstacleSpec::Cell(to_raw(v)))
@@ -173,6 +174,7 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
             max_speed_mps: 1.0,
             max_accel_mps2: 2.0,
             safety_distance_m: 0.25 * voxel_size_m,
+            tracking_error_m: None,
         },
         link: LinkSpec::default(),
         groups: group_specs,

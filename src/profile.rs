@@ -99,6 +99,23 @@ impl Profile {
         }
     }
 
+    /// Signed acceleration along the run `time_s` after the start: `+a` speeding
+    /// up, `−a` braking, zero cruising and outside the run.
+    pub fn accel_at_mps2(&self, time_s: f64) -> f64 {
+        let d = self.duration_s();
+        if time_s <= 0.0 || time_s >= d {
+            return 0.0;
+        }
+        let ramp_s = self.ramp_s();
+        if time_s < ramp_s {
+            self.accel_mps2
+        } else if time_s > d - ramp_s {
+            -self.accel_mps2
+        } else {
+            0.0
+        }
+    }
+
     /// Speed `time_s` after the start (zero outside the run).
     pub fn speed_at_mps(&self, time_s: f64) -> f64 {
         let d = self.duration_s();

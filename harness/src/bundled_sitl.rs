@@ -4,8 +4,8 @@
 
 use std::net::{IpAddr, Ipv4Addr};
 use std::time::Duration;
-use swarmctl::fly::FaultSpec;
 use swarmctl::fly::VehicleLink;
+use swarmctl::fly::{FaultSpec, FrameSource};
 use swarmctl::link::frames;
 use swarmctl::mission::Mission;
 use swarmctl::plan::DiscretePlan;
@@ -46,12 +46,30 @@ pub enum BundledSitlError {
     Spawn(#[from] swarmctl_sitl::SitlError),
 }
 
-/// Vehicle configurations for every drone of `plan` (plan order, system ids 1, 2, …).
+/// Vehicle configurations for every drone of `plan` (plan order, system ids 1, 2, …),
+/// each vehicle in its own local frame, as real autopilots are (see
+/// [`vehicle_configs_in`]).
 pub fn vehicle_configs(
     mission: &Mission,
     plan: &DiscretePlan,
     flavour: Flavour,
     faults: &[FaultSpec],
+) -> Result<Vec<VehicleConfig>, BundledSitlError> {
+    vehicle_configs_in(mission, plan, flavour, faults, FrameSource::PerVehicle)
+}
+
+/// Vehicle configurations for every drone of `plan`, standing on its pad, with
+/// the mission's limits and the `faults` that name it. With
+/// [`FrameSource::PerVehicle`] each vehicle's local frame starts where it stands
+/// and its GPS origin and home are where it stands, from the mission's
+/// `world.geo_origin` (PX4's default SITL home when it has none); with
+/// [`FrameSource::Shared`] every vehicle reports in the mission frame.
+pub fn vehicle_configs_in(
+    mission: &Mission,
+    plan: &DiscretePlan,
+    flavour: Flavour,
+    faults: &[FaultSpec],
+    frames: FrameSource,
 ) -> Result<Vec<VehicleConfig>, BundledSitlError> {
     if plan.drones.len() > 254 {
         return Err(BundledSitlError::TooManyDrones(plan.drones.len()));
@@ -67,7 +85,13 @@ pub fn vehicle_configs(
             });
         }
     }
-    let origin = GeoPoint::default();
+    let origin = mission
+        .geo_origin
+        .map_or_else(GeoPoint::default, |g| GeoPoint {
+            lat_deg: g.lat_deg,
+            lon_deg: g.lon_deg,
+            alt_amsl_m: g.alt_m,
+        });
     let configs = plan
         .drones
         .iter()
@@ -76,6 +100,9 @@ pub fn vehicle_configs(
             let start = mission.airspace.center_m(d.path[0]);
             let ground_ned_m = frames::ned_f32_from_enu([start.x, start.y, 0.0]);
             let mut c = VehicleConfig::new(i as u8 + 1, flavour).at(origin, ground_ned_m);
+            if frames == FrameSource::PerVehicle {
+                c = c.own_frame();
+            }
             c.max_speed_mps = mission.limits.max_speed_mps as f32;
             c.max_accel_mps2 = mission.limits.max_accel_mps2 as f32;
             c.faults = faults_for(&d.id, faults);

@@ -139,8 +139,14 @@ pub struct VehicleConfig {
     /// Autopilot imitated on the wire.
     pub flavour: Flavour,
     /// Where the vehicle sits on the ground at start, in the swarm's shared
-    /// local NED frame (metres). LOCAL_POSITION_NED is reported in this frame.
+    /// NED frame (metres), the simulator's own.
     pub initial_position_ned_m: [f32; 3],
+    /// Where the vehicle's own local frame has its zero, in the shared frame
+    /// (metres): LOCAL_POSITION_NED and LOCAL_NED setpoints are relative to it, and
+    /// GPS_GLOBAL_ORIGIN reports it. `[0, 0, 0]` (the default) puts every vehicle in
+    /// the shared frame; [`VehicleConfig::own_frame`] puts it where the vehicle
+    /// stands, as a real EKF does at its first GPS fix.
+    pub local_origin_ned_m: [f32; 3],
     /// Geodetic position of the start point: origin of GLOBAL_POSITION_INT and HOME_POSITION.
     pub home: GeoPoint,
     /// Speed limit of the position controller (before the fault speed factor).
@@ -173,6 +179,7 @@ impl VehicleConfig {
             port: 0,
             flavour,
             initial_position_ned_m: [0.0; 3],
+            local_origin_ned_m: [0.0; 3],
             home: GeoPoint::default(),
             max_speed_mps: 5.0,
             max_accel_mps2: 3.0,
@@ -189,6 +196,12 @@ impl VehicleConfig {
     pub fn at(mut self, origin: GeoPoint, initial_position_ned_m: [f32; 3]) -> Self {
         self.initial_position_ned_m = initial_position_ned_m;
         self.home = origin.offset_ned(initial_position_ned_m.map(f64::from));
+        self
+    }
+
+    /// Starts the vehicle's local frame where it stands (see `local_origin_ned_m`).
+    pub fn own_frame(mut self) -> Self {
+        self.local_origin_ned_m = self.initial_position_ned_m;
         self
     }
 }

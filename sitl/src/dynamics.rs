@@ -34,6 +34,10 @@ pub struct Setpoint {
     pub velocity_ned_mps: [Option<f32>; 3],
     /// Yaw target in radians, if any.
     pub yaw_rad: Option<f32>,
+    /// Acceleration feed-forward (NED m/s²) per axis: the velocity loop leads by
+    /// it, so a vehicle following a smooth trajectory does not lag by its own
+    /// response time.
+    pub accel_ned_mps2: [Option<f32>; 3],
 }
 
 impl Setpoint {
@@ -43,6 +47,7 @@ impl Setpoint {
             position_ned_m: position_ned_m.map(Some),
             velocity_ned_mps: [Some(0.0); 3],
             yaw_rad: None,
+            accel_ned_mps2: [None; 3],
         }
     }
 }
@@ -158,6 +163,10 @@ fn desired_velocity(body: &Body, setpoint: &Setpoint, limits: &Limits) -> Vec3 {
         if let Some(v) = setpoint.velocity_ned_mps[i].filter(|v| v.is_finite()) {
             feed_forward[i] = f64::from(v);
         }
+        if let Some(a) = setpoint.accel_ned_mps2[i].filter(|a| a.is_finite()) {
+            // Leading the first-order lag by its time constant cancels it.
+            feed_forward[i] += f64::from(LAG_TAU_S) * f64::from(a);
+        }
     }
     let distance_m = norm_f64(error);
     let mut correction = [0.0f64; 3];
@@ -270,6 +279,7 @@ mod tests {
             position_ned_m: [None; 3],
             velocity_ned_mps: [Some(1.0), Some(0.0), Some(0.0)],
             yaw_rad: None,
+            accel_ned_mps2: [None; 3],
         };
         // After one time constant a first-order lag reaches 1 - 1/e ≈ 63 %.
         let steps = (LAG_TAU_S / DT_S).round() as usize;
@@ -295,6 +305,7 @@ mod tests {
             position_ned_m: [Some(3.0), None, None],
             velocity_ned_mps: [None; 3],
             yaw_rad: None,
+            accel_ned_mps2: [None; 3],
         };
         for _ in 0..1000 {
             body.step(DT_S, &sp, &limits(), true);

@@ -1,5 +1,6 @@
 //! SET_POSITION_TARGET_LOCAL_NED / _GLOBAL_INT: decode the type_mask and the
-//! frame into a [`Setpoint`] in the swarm's shared local NED frame.
+//! frame into a [`Setpoint`] in the swarm's shared NED frame (LOCAL_NED targets
+//! are relative to the vehicle's own local origin).
 
 use crate::config::Flavour;
 use crate::dynamics::Setpoint;
@@ -12,7 +13,13 @@ use mavlink::dialects::common::{
 };
 
 /// Per-axis position and velocity components the type_mask keeps.
-fn masked(mask: Mask, position: [f32; 3], velocity: [f32; 3], yaw_rad: f32) -> Setpoint {
+fn masked(
+    mask: Mask,
+    position: [f32; 3],
+    velocity: [f32; 3],
+    accel: [f32; 3],
+    yaw_rad: f32,
+) -> Setpoint {
     let keep = |flag: Mask, v: f32| (!mask.contains(flag) && v.is_finite()).then_some(v);
     Setpoint {
         position_ned_m: [
@@ -26,6 +33,16 @@ fn masked(mask: Mask, position: [f32; 3], velocity: [f32; 3], yaw_rad: f32) -> S
             keep(Mask::POSITION_TARGET_TYPEMASK_VZ_IGNORE, velocity[2]),
         ],
         yaw_rad: keep(Mask::POSITION_TARGET_TYPEMASK_YAW_IGNORE, yaw_rad),
+        // Force setpoints (FORCE_SET) are not simulated: their afx..afz are ignored.
+        accel_ned_mps2: if mask.contains(Mask::POSITION_TARGET_TYPEMASK_FORCE_SET) {
+            [None; 3]
+        } else {
+            [
+                keep(Mask::POSITION_TARGET_TYPEMASK_AX_IGNORE, accel[0]),
+                keep(Mask::POSITION_TARGET_TYPEMASK_AY_IGNORE, accel[1]),
+                keep(Mask::POSITION_TARGET_TYPEMASK_AZ_IGNORE, accel[2]),
+            ]
+        },
     }
 }
 
@@ -33,13 +50,14 @@ impl Vehicle {
     /// Handles SET_POSITION_TARGET_LOCAL_NED (frames LOCAL_NED and LOCAL_OFFSET_NED).
     pub(crate) fn position_target_local(&mut self, sp: &SET_POSITION_TARGET_LOCAL_NED_DATA) {
         let offset = match sp.coordinate_frame {
-            MavFrame::MAV_FRAME_LOCAL_NED => [0.0; 3],
+            MavFrame::MAV_FRAME_LOCAL_NED => self.local_origin_ned_m,
             MavFrame::MAV_FRAME_LOCAL_OFFSET_NED => self.body.position_ned_m,
             _ => return, // body frames are not simulated: ignored, as PX4 ignores unknown frames
         };
         let xyz = [sp.x, sp.y, sp.z];
         let position = std::array::from_fn(|i| xyz[i] + offset[i]);
-        let setpoint = masked(sp.type_mask, position, [sp.vx, sp.vy, sp.vz], sp.yaw);
+        let accel = [sp.afx, sp.afy, sp.afz];
+        let setpoint = masked(sp.type_mask, position, [sp.vx, sp.vy, sp.vz], accel, sp.yaw);
         self.accept_setpoint(setpoint);
     }
 
@@ -67,7 +85,8 @@ impl Vehicle {
         };
         let ned = self.home.ned_to(&target);
         let position = std::array::from_fn(|i| self.initial_position_ned_m[i] + ned[i] as f32);
-        let setpoint = masked(sp.type_mask, position, [sp.vx, sp.vy, sp.vz], sp.yaw);
+        let accel = [sp.afx, sp.afy, sp.afz];
+        let setpoint = masked(sp.type_mask, position, [sp.vx, sp.vy, sp.vz], accel, sp.yaw);
         self.accept_setpoint(setpoint);
     }
 
@@ -95,6 +114,7 @@ mod tests {
             Mask::from_bits_truncate(3520),
             [1.0, 2.0, -3.0],
             [0.5, 0.0, 0.0],
+            [0.0; 3],
             0.0,
         );
         assert_eq!(sp.position_ned_m, [Some(1.0), Some(2.0), Some(-3.0)]);
@@ -104,7 +124,13 @@ mod tests {
 
     #[test]
     fn default_mask_ignores_x_and_nan_is_ignored() {
-        let sp = masked(Mask::default(), [1.0, f32::NAN, -3.0], [0.0; 3], 0.0);
+        let sp = masked(
+            Mask::default(),
+            [1.0, f32::NAN, -3.0],
+            [0.0; 3],
+            [0.0; 3],
+            0.0,
+        );
         assert_eq!(sp.position_ned_m, [None, None, Some(-3.0)]);
     }
 }

@@ -22,6 +22,8 @@ pub mod id {
     pub const LOCAL_POSITION_NED: u32 = 32;
     /// GLOBAL_POSITION_INT.
     pub const GLOBAL_POSITION_INT: u32 = 33;
+    /// GPS_GLOBAL_ORIGIN: where the local frame is zero.
+    pub const GPS_GLOBAL_ORIGIN: u32 = 49;
     /// BATTERY_STATUS.
     pub const BATTERY_STATUS: u32 = 147;
     /// AUTOPILOT_VERSION (on request only).
@@ -64,6 +66,7 @@ impl Streams {
             (id::GLOBAL_POSITION_INT, fast_s),
             (id::BATTERY_STATUS, 1.0),
             (id::HOME_POSITION, 2.0),
+            (id::GPS_GLOBAL_ORIGIN, 5.0),
             (id::EXTENDED_SYS_STATE, 0.2),
         ];
         let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_57a7);

@@ -44,6 +44,8 @@ impl Vehicle {
             id::ATTITUDE => self.attitude(),
             id::LOCAL_POSITION_NED => {
                 let (p, v) = self.noisy_state();
+                let o = self.local_origin_ned_m;
+                let p = [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
                 MavMessage::LOCAL_POSITION_NED(LOCAL_POSITION_NED_DATA {
                     time_boot_ms: self.time_boot_ms(),
                     x: p[0],
@@ -58,6 +60,7 @@ impl Vehicle {
             id::BATTERY_STATUS => self.battery_status(),
             id::AUTOPILOT_VERSION => self.autopilot_version(),
             id::HOME_POSITION => self.home_position(),
+            id::GPS_GLOBAL_ORIGIN => self.gps_global_origin(),
             id::EXTENDED_SYS_STATE => MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
                 vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
                 landed_state: self.landed_state(),
@@ -236,8 +239,23 @@ impl Vehicle {
         })
     }
 
+    /// The geodetic point where the local frame is zero.
+    fn gps_global_origin(&self) -> MavMessage {
+        let (o, p) = (self.local_origin_ned_m, self.initial_position_ned_m);
+        let origin = self
+            .home
+            .offset_ned(std::array::from_fn(|i| f64::from(o[i] - p[i])));
+        MavMessage::GPS_GLOBAL_ORIGIN(GPS_GLOBAL_ORIGIN_DATA {
+            latitude: origin.lat_e7(),
+            longitude: origin.lon_e7(),
+            altitude: (origin.alt_amsl_m * 1000.0) as i32,
+            time_usec: (self.time_s * 1e6) as u64,
+        })
+    }
+
     fn home_position(&self) -> MavMessage {
-        let p = self.initial_position_ned_m;
+        let (h, o) = (self.initial_position_ned_m, self.local_origin_ned_m);
+        let p = [h[0] - o[0], h[1] - o[1], h[2] - o[2]];
         MavMessage::HOME_POSITION(HOME_POSITION_DATA {
             latitude: self.home.lat_e7(),
             longitude: self.home.lon_e7(),

@@ -31,7 +31,7 @@ pub const LOST_AFTER_S: f64 = 10.0;
 pub const LOW_BATTERY_PCT: i8 = 25;
 /// Horizontal clearance margin over the safety distance for a vertical descent.
 const COLUMN_MARGIN_M: f64 = 0.1;
-/// Below this height a drone is on the ground, not in anybody's way.
+/// Below this height a drone is on the ground.
 const AIRBORNE_M: f64 = 0.1;
 /// A drone at rest moves slower than this in telemetry.
 const AT_REST_MPS: f64 = 0.1;
@@ -51,19 +51,33 @@ pub fn swarm_paused(drones: &[DroneRun]) -> bool {
     })
 }
 
-/// True if `i` can descend vertically: no other airborne drone (a lost one at its
-/// last known position included) is below it within the safety distance
-/// horizontally. Returns the blocking drone otherwise.
+/// True if `i` can descend vertically: no other drone is below it within the safety
+/// distance horizontally — where it is, or where it would stop braking from its
+/// measured velocity (a drone still sliding after an abort comes underneath), a
+/// lost one at its last known position and one already down on the ground
+/// included (nobody lands on top of another). Returns the blocking drone otherwise.
 pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> Option<usize> {
     let p = drones.get(i)?.position_m()?;
     drones.iter().enumerate().find_map(|(j, other)| {
-        if j == i || matches!(other.phase(), Phase::Landed) {
+        if j == i {
             return None;
         }
-        let q = other.position_m()?;
-        let horizontal = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
-        let below = q[2] < p[2] && q[2] > AIRBORNE_M;
-        (below && horizontal < safety_distance_m + COLUMN_MARGIN_M).then_some(j)
+        let now = other.position_m()?;
+        let stop = other
+            .stopping_point_m(other.follower().max_accel_mps2())
+            .unwrap_or(now);
+        let under = |q: [f64; 3]| {
+            let horizontal = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+            // One on the ground stays put: no margin, so neighbouring pads (at
+            // least the safety distance apart) never block each other.
+            let clearance_m = if q[2] > AIRBORNE_M {
+                safety_distance_m + COLUMN_MARGIN_M
+            } else {
+                safety_distance_m
+            };
+            q[2] < p[2] && horizontal < clearance_m
+        };
+        (under(now) || under(stop)).then_some(j)
     })
 }
 

@@ -94,7 +94,7 @@ pub async fn run(
         }
         flight.measure(since_arm_s);
         for d in flight.drones.iter_mut() {
-            d.sample_tracking();
+            d.sample_tracking(now);
         }
         flight.start_plan_clock(now, since_arm_s);
         flight.end_plan(now, t_exec_s, since_arm_s);
@@ -201,7 +201,7 @@ impl<'a> Flight<'a> {
     /// Observed progress, gates and commanded motion of every flying drone.
     fn step_plan(&mut self, t_s: f64, dt_s: f64) {
         for d in self.drones.iter_mut() {
-            d.observe_progress(t_s);
+            d.observe_progress(t_s, self.settings.settle_tolerance_m);
         }
         let progress: Vec<Progress> = self.drones.iter().map(|d| d.progress().clone()).collect();
         let tick = SwarmTick {

@@ -42,6 +42,9 @@ pub enum Hold {
     Settling,
     /// A TPG gate is closed ahead.
     Gate,
+    /// The vehicle is further from its setpoint than the mission's tracking error:
+    /// the setpoint waits for it.
+    Tracking,
 }
 
 /// One commanded setpoint, ENU.
@@ -51,6 +54,20 @@ pub struct Setpoint {
     pub position_m: [f64; 3],
     /// How fast it should move there, ENU metres per second (feed-forward).
     pub velocity_mps: [f64; 3],
+    /// How it should be accelerating, ENU m/s² (feed-forward: the profile's
+    /// acceleration, so the vehicle's controller need not lag to build it up).
+    pub acceleration_mps2: [f64; 3],
+}
+
+impl Setpoint {
+    /// At rest at `position_m`.
+    pub fn rest(position_m: [f64; 3]) -> Self {
+        Self {
+            position_m,
+            velocity_mps: [0.0; 3],
+            acceleration_mps2: [0.0; 3],
+        }
+    }
 }
 
 /// The commanded motion of one drone along its route.
@@ -68,6 +85,9 @@ pub struct Follower {
     /// Stop as soon as possible until unpaused (telemetry or link lost: the
     /// commanded target must not run away from a vehicle we cannot see).
     paused: bool,
+    /// The vehicle strays from its setpoint: the setpoint stands still where it is
+    /// until the vehicle is back (see [`Follower::hold_for_tracking`]).
+    frozen: bool,
     /// Why it is not moving this tick, for gate-wait counting and the status view.
     pub hold: Hold,
 }
@@ -84,8 +104,14 @@ impl Follower {
             validated_until_s: 0.0,
             halted: false,
             paused: false,
+            frozen: false,
             hold: Hold::Schedule,
         }
+    }
+
+    /// The acceleration limit it keeps, m/s².
+    pub fn max_accel_mps2(&self) -> f64 {
+        self.max_accel_mps2
     }
 
     /// True once the last run is finished (commanded; telemetry may still lag).
@@ -117,9 +143,48 @@ impl Follower {
         self.paused = paused;
     }
 
+    /// While `straying` (the vehicle is further from its setpoint than the tracking
+    /// error it is trusted to keep), the setpoint stops where it is at `t_s` — at
+    /// once, not braking on: the vehicle, behind it, brakes by its own controller
+    /// onto a point of its scheduled path, which is where the separation argument
+    /// needs it. The run resumes from rest once the vehicle has settled there.
+    pub fn hold_for_tracking(&mut self, straying: bool, t_s: f64) {
+        if straying
+            && !self.frozen
+            && let Some(x_m) = self.moving_x_m(t_s)
+        {
+            self.motion = Motion::Rest { x_m };
+        }
+        self.frozen = straying;
+    }
+
+    /// Position along the current run at `t_s` while moving or braking.
+    fn moving_x_m(&self, t_s: f64) -> Option<f64> {
+        match self.motion {
+            Motion::Rest { .. } => None,
+            _ => Some(self.state_at(t_s).0),
+        }
+    }
+
     /// True when the commanded motion is at rest.
     pub fn at_rest(&self) -> bool {
         matches!(self.motion, Motion::Rest { .. })
+    }
+
+    /// Signed acceleration along the current run at `t_s`, for the current motion.
+    fn accel_at(&self, t_s: f64) -> f64 {
+        match self.motion {
+            Motion::Rest { .. } => 0.0,
+            Motion::Moving { profile, t0_s, .. } => profile.accel_at_mps2(t_s - t0_s),
+            Motion::Braking { v0_mps, t0_s, .. } => {
+                let tau = t_s - t0_s;
+                if tau >= 0.0 && tau < v0_mps / self.max_accel_mps2 {
+                    -self.max_accel_mps2
+                } else {
+                    0.0
+                }
+            }
+        }
     }
 
     /// Position along the current run and speed at `t_s`, for the current motion.
@@ -173,6 +238,8 @@ impl Follower {
                     }
                     self.hold = if self.halted || self.paused {
                         Hold::Gate
+                    } else if self.frozen {
+                        Hold::Tracking
                     } else if x_m <= 0.0 && t_s < run.scheduled_start_s {
                         Hold::Schedule
                     } else if !settled {
@@ -240,16 +307,15 @@ impl Follower {
     /// The commanded position and velocity at `t_s` (ENU).
     pub fn setpoint(&self, route: &Route, t_s: f64) -> Setpoint {
         match route.runs.get(self.run) {
-            None => Setpoint {
-                position_m: route.goal_m(),
-                velocity_mps: [0.0; 3],
-            },
+            None => Setpoint::rest(route.goal_m()),
             Some(run) => {
                 let (x, v) = self.state_at(t_s);
+                let a = self.accel_at(t_s);
                 let u = run.unit();
                 Setpoint {
                     position_m: run.point_m(x),
                     velocity_mps: u.map(|c| c * v),
+                    acceleration_mps2: u.map(|c| c * a),
                 }
             }
         }

@@ -28,20 +28,30 @@ pub struct Progress {
 }
 
 impl Progress {
-    /// Folds in a telemetry position (ENU) given the commanded arc and run, at
+    /// Folds in a telemetry position (ENU) given the commanded `(arc, run)`, at
     /// plan-clock time `t_s`.
+    ///
+    /// The run telemetry is on ends when the commanded motion has moved on and
+    /// telemetry is within `settle_tolerance_m` (plus [`REACH_TOLERANCE_M`]) of
+    /// its end: the follower starts the next run only once telemetry settled that
+    /// close, and a vehicle that settled a few centimetres short and then turned
+    /// the corner would otherwise never be seen to finish the run — and hold
+    /// everyone gated on it for ever.
     pub fn observe(
         &mut self,
         route: &Route,
         position_m: [f64; 3],
-        commanded_arc_m: f64,
-        commanded_run: usize,
+        (commanded_arc_m, commanded_run): (f64, usize),
         t_s: f64,
+        settle_tolerance_m: f64,
     ) {
+        let run_end_tolerance_m = REACH_TOLERANCE_M.max(settle_tolerance_m) + REACH_TOLERANCE_M;
         while let Some(run) = route.runs.get(self.observed_run) {
             let along = run.project_m(position_m);
             self.observed_arc_m = self.observed_arc_m.max(run.arc_start_m + along);
-            if along >= run.length_m - REACH_TOLERANCE_M && self.observed_run < commanded_run {
+            if along >= run.length_m - run_end_tolerance_m && self.observed_run < commanded_run {
+                // The run's end counts as reached: the next run starts from it.
+                self.observed_arc_m = self.observed_arc_m.max(run.arc_start_m + run.length_m);
                 self.observed_run += 1;
             } else {
                 break;

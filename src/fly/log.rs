@@ -66,6 +66,18 @@ pub struct Summary {
     /// The drone with the largest 95th-percentile tracking error, and that error.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub worst_tracking: Option<(String, TrackingError)>,
+    /// The tracking error the mission trusts the vehicles to keep, metres.
+    #[serde(default)]
+    pub tracking_bound_m: f64,
+    /// No drone's measured tracking error exceeded the bound.
+    #[serde(default)]
+    pub tracking_held: bool,
+    /// Times a setpoint waited for its vehicle to come back within the bound.
+    #[serde(default)]
+    pub tracking_holds: usize,
+    /// Total time setpoints waited so, seconds.
+    #[serde(default)]
+    pub tracking_hold_s: f64,
     /// Largest final distance from a drone to the pad-layer cell it lands from
     /// (before touchdown), metres.
     pub max_final_distance_to_goal_m: f64,
@@ -105,6 +117,16 @@ pub struct DroneLog {
     /// Telemetry against the streamed setpoint while it flew on our setpoints.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tracking_error: Option<TrackingError>,
+    /// Times its setpoint waited for it to come back within the tracking bound.
+    #[serde(default)]
+    pub tracking_holds: usize,
+    /// Seconds its setpoint waited so.
+    #[serde(default)]
+    pub tracking_hold_s: f64,
+    /// How pre-flight placed its vehicle's local frame.
+    pub frame: super::placement::FrameFix,
+    /// Mission ENU position of its vehicle's local origin, metres.
+    pub local_origin_enu_m: [f64; 3],
     /// Telemetry samples `[t_s, x_m, y_m, z_m]` (ENU; t from the first arm command).
     pub samples: Vec<[f64; 4]>,
 }
@@ -219,6 +241,17 @@ impl Summary {
                 None => "  tracking error       none measured".to_string(),
             },
             format!(
+                "  tracking bound       {:.3} m: {} (setpoints held {} times, {:.1} s in total)",
+                self.tracking_bound_m,
+                if self.tracking_held {
+                    "held"
+                } else {
+                    "EXCEEDED"
+                },
+                self.tracking_holds,
+                self.tracking_hold_s
+            ),
+            format!(
                 "  gating waits         {} ({:.1} s in total)",
                 self.gating_waits, self.gating_wait_s
             ),
@@ -262,6 +295,10 @@ mod tests {
             gating_wait_s: 0.0,
             max_final_distance_to_goal_m: 0.0,
             worst_tracking: None,
+            tracking_bound_m: 0.3,
+            tracking_held: true,
+            tracking_holds: 0,
+            tracking_hold_s: 0.0,
             lost: Vec::new(),
             retired: Vec::new(),
             handed_over: Vec::new(),

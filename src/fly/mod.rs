@@ -23,6 +23,7 @@ pub mod log;
 pub mod observer;
 pub mod path;
 pub mod phase;
+pub mod placement;
 pub mod preflight;
 pub mod report;
 pub mod settings;
@@ -32,6 +33,7 @@ pub use error::FlyError;
 pub use faults::{FaultSpec, parse_fault};
 pub use log::{DroneLog, FlightLog, Summary};
 pub use observer::{DroneStatus, FlightObserver, FlightStatus};
+pub use placement::FrameSource;
 
 use crate::link::Session;
 use crate::mission::Mission;
@@ -64,12 +66,15 @@ pub async fn fly(
         .map(|r| [r.start_m[0], r.start_m[1], 0.0])
         .collect();
     let limits = preflight::PreflightLimits {
+        frames: options.frames,
+        geo_origin: mission.geo_origin,
         heartbeat_timeout: options.heartbeat_timeout,
         ready_timeout: options.ready_timeout,
         start_tolerance_m: options.start_tolerance_m,
         position_rate_hz: mission.link.setpoint_rate_hz,
     };
-    let flavours = preflight::check_all(&ids, &sessions, &grounds, limits).await?;
+    let checked = preflight::check_all(&ids, &sessions, &grounds, limits).await?;
+    let (flavours, placed): (Vec<_>, Vec<_>) = checked.into_iter().unzip();
     let armed_at = Instant::now();
     for s in &sessions {
         s.state().recording = true;
@@ -82,10 +87,16 @@ pub async fn fly(
         .into_iter()
         .zip(sessions)
         .zip(flavours)
+        .zip(&placed)
         .enumerate()
-        .map(|(i, ((route, session), flavour))| {
+        .map(|(i, (((route, session), flavour), placed))| {
             let follower = Follower::new(l.max_speed_mps, l.max_accel_mps2);
-            DroneRun::new(i, route, session, flavour, follower, commands.clone())
+            let vehicle = drone::Vehicle {
+                session,
+                flavour,
+                placed: *placed,
+            };
+            DroneRun::new(i, route, vehicle, follower, commands.clone())
         })
         .collect();
     let settings = LoopSettings {
@@ -93,6 +104,7 @@ pub async fn fly(
         link_timeout_s: mission.link.link_timeout_s,
         max_speed_mps: l.max_speed_mps,
         max_accel_mps2: l.max_accel_mps2,
+        tracking_error_m: l.tracking_error_m,
         settle_tolerance_m: options.settle_tolerance_m,
         execution_timeout_s: options.timeout_factor * planned_makespan_s + 30.0,
         safety_distance_m: l.safety_distance_m,

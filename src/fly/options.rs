@@ -25,7 +25,11 @@ pub struct FlyOptions {
     /// telemetry and its pre-arm checks passing (real autopilots need some 40 s
     /// after boot for EKF and GPS). Past it, pre-flight says per drone what is missing.
     pub ready_timeout: Duration,
-    /// Horizontal distance allowed between a vehicle and its pad.
+    /// Whether each vehicle keeps its own local frame (real autopilots; learned at
+    /// pre-flight) or all report in the mission frame already.
+    pub frames: super::placement::FrameSource,
+    /// Horizontal distance allowed between where a vehicle is found (its GPS with
+    /// `world.geo_origin`, or its report in a shared frame) and its pad.
     pub start_tolerance_m: f64,
     /// Telemetry this close to a commanded rest point counts as arrived.
     pub settle_tolerance_m: f64,
@@ -47,6 +51,7 @@ impl std::fmt::Debug for FlyOptions {
             .field("vehicles", &self.vehicles)
             .field("heartbeat_timeout", &self.heartbeat_timeout)
             .field("ready_timeout", &self.ready_timeout)
+            .field("frames", &self.frames)
             .field("start_tolerance_m", &self.start_tolerance_m)
             .field("settle_tolerance_m", &self.settle_tolerance_m)
             .field("timeout_factor", &self.timeout_factor)
@@ -58,14 +63,15 @@ impl std::fmt::Debug for FlyOptions {
 }
 
 impl FlyOptions {
-    /// Defaults for a calm link: 5 s for the first heartbeat, 0.3 m start
-    /// tolerance, 5 cm settle tolerance, 4 × makespan timeout, no observers,
+    /// Defaults for a calm link: 5 s for the first heartbeat, per-vehicle frames,
+    /// 0.3 m start tolerance, 5 cm settle tolerance, 4 × makespan timeout, no observers,
     /// unsigned.
     pub fn new(vehicles: Vec<VehicleLink>) -> Self {
         Self {
             vehicles,
             heartbeat_timeout: Duration::from_secs(5),
             ready_timeout: Duration::from_secs(60),
+            frames: super::placement::FrameSource::PerVehicle,
             start_tolerance_m: 0.3,
             settle_tolerance_m: 0.05,
             timeout_factor: 4.0,

@@ -3,7 +3,9 @@
 //! all or nothing: if one vehicle refuses, everyone already armed is disarmed.
 
 use super::error::FlyError;
-use crate::link::{Flavour, Session, frames};
+use super::placement::{self, FrameSource, Placed, PlacementRules};
+use crate::link::{Flavour, Session};
+use crate::mission::Geodetic;
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::task::JoinSet;
@@ -11,6 +13,10 @@ use tokio::task::JoinSet;
 /// How a vehicle must present itself before the swarm may arm.
 #[derive(Debug, Clone, Copy)]
 pub struct PreflightLimits {
+    /// Shared or per-vehicle local frames (see `placement`).
+    pub frames: FrameSource,
+    /// The mission's `world.geo_origin`, if it has one.
+    pub geo_origin: Option<Geodetic>,
     /// How long to wait for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
     /// How long to wait for each vehicle to be ready: position telemetry and pre-arm
@@ -22,13 +28,14 @@ pub struct PreflightLimits {
     pub position_rate_hz: f64,
 }
 
-/// Checks one vehicle; `Err` is a one-line explanation naming the drone.
+/// Checks one vehicle and places its frame; `Err` is a one-line explanation naming
+/// the drone.
 async fn check_one(
     id: String,
     session: Arc<Session>,
-    start_ground_enu_m: [f64; 3],
+    pad_enu_m: [f64; 3],
     limits: PreflightLimits,
-) -> Result<Flavour, String> {
+) -> Result<(Flavour, Placed), String> {
     let flavour = session
         .wait_heartbeat(limits.heartbeat_timeout)
         .await
@@ -41,8 +48,7 @@ async fn check_one(
     let (position, prearm_ok, armed, reason) = {
         let s = session.state();
         (
-            s.position
-                .map(|p| frames::enu_from_ned_f32(p.position_ned_m)),
+            s.position.map(|p| p.position_ned_m),
             s.prearm_ok.unwrap_or(false),
             s.armed,
             s.prearm_reason
@@ -59,24 +65,16 @@ async fn check_one(
             reason.map(|r| format!(": {r}")).unwrap_or_default()
         ));
     }
-    let position = position.unwrap_or([f64::NAN; 3]);
-    let horizontal_m = ((position[0] - start_ground_enu_m[0]).powi(2)
-        + (position[1] - start_ground_enu_m[1]).powi(2))
-    .sqrt();
-    // No position yet makes the distance NaN, which must fail too.
-    if horizontal_m.is_nan() || horizontal_m > limits.start_tolerance_m {
-        return Err(format!(
-            "{id}: at ENU ({:.2}, {:.2}, {:.2}) m, {horizontal_m:.2} m from its pad \
-             ({:.2}, {:.2}); tolerance {:.2} m",
-            position[0],
-            position[1],
-            position[2],
-            start_ground_enu_m[0],
-            start_ground_enu_m[1],
-            limits.start_tolerance_m
-        ));
-    }
-    Ok(flavour)
+    let Some(reported_ned_m) = position else {
+        return Err(format!("{id}: no position telemetry"));
+    };
+    let rules = PlacementRules {
+        source: limits.frames,
+        geo_origin: limits.geo_origin,
+        tolerance_m: limits.start_tolerance_m,
+    };
+    let placed = placement::place(&id, &session, pad_enu_m, reported_ned_m, rules).await?;
+    Ok((flavour, placed))
 }
 
 /// Waits until the vehicle reports a position and passing pre-arm checks, as real
@@ -122,16 +120,17 @@ async fn wait_ready(id: &str, session: &Session, within: Duration) -> Result<(),
     }
 }
 
-/// Runs every check concurrently and returns each vehicle's flavour, or every failure.
+/// Runs every check concurrently and returns each vehicle's flavour and frame, or
+/// every failure.
 pub async fn check_all(
     ids: &[String],
     sessions: &[Arc<Session>],
-    starts_ground_enu_m: &[[f64; 3]],
+    pads_enu_m: &[[f64; 3]],
     limits: PreflightLimits,
-) -> Result<Vec<Flavour>, FlyError> {
+) -> Result<Vec<(Flavour, Placed)>, FlyError> {
     let mut set = JoinSet::new();
     for (i, (id, session)) in ids.iter().zip(sessions).enumerate() {
-        let fut = check_one(id.clone(), session.clone(), starts_ground_enu_m[i], limits);
+        let fut = check_one(id.clone(), session.clone(), pads_enu_m[i], limits);
         set.spawn(async move { (i, fut.await) });
     }
     let mut flavours = vec![None; ids.len()];

@@ -6,7 +6,6 @@ use super::executor::Outcome;
 use super::log::{DroneLog, Summary};
 use super::options::VehicleLink;
 use super::phase::Phase;
-use crate::link::frames;
 use crate::mission::Limits;
 use std::time::Instant;
 
@@ -46,11 +45,15 @@ pub fn drone_logs(
                 gating_wait_s: d.gating_wait_s(),
                 link_losses: d.link_losses(),
                 tracking_error: d.tracking_error(),
+                tracking_holds: d.tracking_holds(),
+                tracking_hold_s: d.tracking_hold_s(),
+                frame: d.placed().fix,
+                local_origin_enu_m: d.frame().local_origin_enu_m(),
                 samples: s
                     .track
                     .iter()
                     .map(|p| {
-                        let e = frames::enu_from_ned_f32(p.position_ned_m);
+                        let e = d.frame().mission_from_local(p.position_ned_m);
                         let t = p.received.saturating_duration_since(armed_at).as_secs_f64();
                         [t, e[0], e[1], e[2]]
                     })
@@ -91,6 +94,13 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
             .iter()
             .filter_map(|d| d.tracking_error.map(|t| (d.id.clone(), t)))
             .max_by(|a, b| a.1.p95_m.total_cmp(&b.1.p95_m)),
+        tracking_bound_m: flown.limits.tracking_error_m,
+        tracking_held: logs
+            .iter()
+            .filter_map(|d| d.tracking_error)
+            .all(|t| t.max_m <= flown.limits.tracking_error_m),
+        tracking_holds: logs.iter().map(|d| d.tracking_holds).sum(),
+        tracking_hold_s: logs.iter().map(|d| d.tracking_hold_s).sum(),
         max_final_distance_to_goal_m: logs
             .iter()
             .filter_map(|d| d.final_distance_to_goal_m)

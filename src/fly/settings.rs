@@ -11,6 +11,9 @@ pub struct LoopSettings {
     pub max_speed_mps: f64,
     /// The mission's acceleration limit, for the PX4 climb profile, m/s².
     pub max_accel_mps2: f64,
+    /// The tracking error the vehicles are trusted to keep, metres: a drone's
+    /// setpoint waits while the drone is further from it (0: not enforced).
+    pub tracking_error_m: f64,
     /// Telemetry this close to a commanded rest point counts as settled there.
     pub settle_tolerance_m: f64,
     /// Give up on plan execution (hold, then land) after this long.

@@ -4,7 +4,6 @@
 use super::drone::DroneRun;
 use super::log::LogEvent;
 use super::observer::{FlightObserver, FlightStatus};
-use crate::link::frames;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -41,7 +40,7 @@ impl Tap {
             }
             *last = Some(p.received);
             let t_s = p.received.saturating_duration_since(armed_at).as_secs_f64();
-            let position_m = frames::enu_from_ned_f32(p.position_ned_m);
+            let position_m = d.frame().mission_from_local(p.position_ned_m);
             for o in observers {
                 o.sample(i, t_s, position_m);
             }

@@ -12,6 +12,7 @@ pub fn default_limits() -> LimitsSpec {
         max_speed_mps: 1.0,
         max_accel_mps2: 2.0,
         safety_distance_m: 0.3,
+        tracking_error_m: None,
     }
 }
 
@@ -41,6 +42,7 @@ pub(crate) fn world_spec(dimensions: [i64; 3], obstacles: Vec<ObstacleSpec>) -> 
         voxel_size_m: 1.0,
         origin_m: [0.0, 0.0, 1.0],
         pad_height_m: None,
+        geo_origin: None,
         obstacles,
     }
 }

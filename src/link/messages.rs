@@ -15,8 +15,9 @@ pub const GCS_COMPONENT_ID: u8 = 190;
 /// The autopilot's component id on every vehicle we fly.
 pub const AUTOPILOT_COMPONENT_ID: u8 = 1;
 
-/// Position and velocity used; acceleration, yaw and yaw rate ignored (0x0DC0).
-pub const TYPE_MASK_POSITION_VELOCITY: u16 = 3520;
+/// Position, velocity and acceleration used (not as force); yaw and yaw rate
+/// ignored (0x0C00). PX4 offboard and ArduPilot guided both take all three.
+pub const TYPE_MASK_POSITION_VELOCITY_ACCEL: u16 = 3072;
 
 /// The 1 Hz ground-station heartbeat (explicitly disarmed base mode).
 pub fn gcs_heartbeat() -> MavMessage {
@@ -53,12 +54,13 @@ pub fn command_long(
     })
 }
 
-/// A LOCAL_NED position target with velocity feed-forward.
-pub fn position_velocity_target(
+/// A LOCAL_NED position target with velocity and acceleration feed-forward.
+pub fn position_target(
     target_system: u8,
     time_boot_ms: u32,
     position_ned_m: [f32; 3],
     velocity_ned_mps: [f32; 3],
+    accel_ned_mps2: [f32; 3],
 ) -> MavMessage {
     MavMessage::SET_POSITION_TARGET_LOCAL_NED(SET_POSITION_TARGET_LOCAL_NED_DATA {
         time_boot_ms,
@@ -68,12 +70,12 @@ pub fn position_velocity_target(
         vx: velocity_ned_mps[0],
         vy: velocity_ned_mps[1],
         vz: velocity_ned_mps[2],
-        afx: 0.0,
-        afy: 0.0,
-        afz: 0.0,
+        afx: accel_ned_mps2[0],
+        afy: accel_ned_mps2[1],
+        afz: accel_ned_mps2[2],
         yaw: 0.0,
         yaw_rate: 0.0,
-        type_mask: PositionTargetTypemask::from_bits_truncate(TYPE_MASK_POSITION_VELOCITY),
+        type_mask: PositionTargetTypemask::from_bits_truncate(TYPE_MASK_POSITION_VELOCITY_ACCEL),
         target_system,
         target_component: AUTOPILOT_COMPONENT_ID,
         coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
@@ -85,13 +87,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn setpoint_uses_position_and_velocity() {
+    fn setpoint_uses_position_velocity_and_acceleration() {
         let MavMessage::SET_POSITION_TARGET_LOCAL_NED(m) =
-            position_velocity_target(3, 0, [1.0, 2.0, -3.0], [0.5, 0.0, 0.0])
+            position_target(3, 0, [1.0, 2.0, -3.0], [0.5, 0.0, 0.0], [2.0, 0.0, 0.0])
         else {
             unreachable!()
         };
-        assert_eq!(m.type_mask.bits(), 0x0DC0);
+        assert_eq!(m.type_mask.bits(), 0x0C00);
+        assert_eq!(m.afx, 2.0);
+        assert!(
+            !m.type_mask
+                .contains(PositionTargetTypemask::POSITION_TARGET_TYPEMASK_FORCE_SET)
+        );
         assert!(
             !m.type_mask
                 .contains(PositionTargetTypemask::POSITION_TARGET_TYPEMASK_X_IGNORE)

@@ -3,7 +3,8 @@
 //! One [`Session`] per vehicle: a reader task keeps the vehicle's state current,
 //! a heartbeat task announces us as a ground station (system 255) once a second,
 //! and commands are retried with MAVLink's confirmation counter until
-//! acknowledged. [`frames`] is the only place ENU meets NED.
+//! acknowledged. [`frames`] is the only place the mission's ENU meets each vehicle's
+//! own local NED.
 
 pub mod error;
 pub mod flavour;
@@ -16,6 +17,7 @@ pub mod telemetry;
 
 pub use error::LinkError;
 pub use flavour::{Flavour, ModeRequest};
+pub use frames::VehicleFrame;
 pub use session::{CommandPolicy, Session};
 pub use signing::{SigningKey, SigningKeyError};
 pub use telemetry::{PositionSample, VehicleState};

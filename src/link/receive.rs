@@ -38,6 +38,7 @@
 use super::flavour::Flavour;
 use super::messages::{AUTOPILOT_COMPONENT_ID, GCS_COMPONENT_ID, GCS_SYSTEM_ID};
 use super::telemetry::{PositionSample, VehicleState};
+use crate::mission::Geodetic;
 use mavlink::MavHeader;
 use mavlink::dialects::common::{COMMAND_ACK_DATA, MavMessage, MavModeFlag, MavSysStatusSensor};
 use std::time::Instant;
@@ -109,6 +110,12 @@ pub fn fold(
                 .contains(&st.battery_remaining)
                 .then_some(st.battery_remaining);
         }
+        MavMessage::GPS_GLOBAL_ORIGIN(o) if from_autopilot => {
+            state.gps_origin = geodetic(o.latitude, o.longitude, o.altitude).or(state.gps_origin);
+        }
+        MavMessage::HOME_POSITION(h) if from_autopilot => {
+            state.home = geodetic(h.latitude, h.longitude, h.altitude).or(state.home);
+        }
         MavMessage::STATUSTEXT(t) => {
             state.last_status_text = t.text.to_str().ok().map(str::to_string);
             if let Some(text) = &state.last_status_text
@@ -123,8 +130,18 @@ pub fn fold(
     None
 }
 
-/// A sample stamped `time_boot_ms` is older than the newest accepted one, and not
-/// so much older that it must be a reboot.
+/// A geodetic point from MAVLink's degE7 / millimetre fields; `None` when the
+/// latitude or longitude is out of range (as an unset origin reports 0, 0 it is
+/// accepted: no field has a drone there, and pre-flight would refuse it).
+fn geodetic(lat_e7: i32, lon_e7: i32, alt_mm: i32) -> Option<Geodetic> {
+    let (lat_deg, lon_deg) = (f64::from(lat_e7) / 1e7, f64::from(lon_e7) / 1e7);
+    ((-90.0..=90.0).contains(&lat_deg) && (-180.0..=180.0).contains(&lon_deg)).then_some(Geodetic {
+        lat_deg,
+        lon_deg,
+        alt_m: f64::from(alt_mm) / 1000.0,
+    })
+}
+
 /// A STATUSTEXT explaining a pre-arm failure: ArduPilot's "PreArm: …" and PX4's
 /// "Preflight Fail: …" (either case).
 fn is_prearm_reason(text: &str) -> bool {
@@ -132,6 +149,8 @@ fn is_prearm_reason(text: &str) -> bool {
     lower.starts_with("prearm") || lower.starts_with("preflight fail")
 }
 
+/// A sample stamped `time_boot_ms` is older than the newest accepted one, and not
+/// so much older that it must be a reboot.
 fn is_stale(newest_ms: Option<u32>, time_boot_ms: u32) -> bool {
     newest_ms
         .is_some_and(|newest| time_boot_ms < newest && newest - time_boot_ms < REBOOT_BACKSTEP_MS)

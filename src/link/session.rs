@@ -10,7 +10,7 @@
 use super::error::LinkError;
 use super::flavour::{Flavour, ModeRequest};
 use super::messages::{
-    GCS_COMPONENT_ID, GCS_SYSTEM_ID, command_long, gcs_heartbeat, position_velocity_target,
+    GCS_COMPONENT_ID, GCS_SYSTEM_ID, command_long, gcs_heartbeat, position_target,
 };
 use super::receive;
 use super::signing::SigningKey;
@@ -263,6 +263,15 @@ impl Session {
         .await
     }
 
+    /// Asks the vehicle to send message `message_id` once (MAV_CMD_REQUEST_MESSAGE).
+    pub async fn request_message(&self, message_id: u32) -> Result<(), LinkError> {
+        self.command(
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            [message_id as f32, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+    }
+
     /// Asks the autopilot to run its pre-arm checks now, which makes it repeat why
     /// they fail in STATUSTEXT (ArduPilot; PX4 answers unsupported, and says why on
     /// its own).
@@ -291,18 +300,21 @@ impl Session {
         })
     }
 
-    /// Streams one position + velocity setpoint (LOCAL_NED).
+    /// Streams one position setpoint with velocity and acceleration feed-forward
+    /// (LOCAL_NED, the vehicle's own local frame).
     pub async fn send_setpoint(
         &self,
         position_ned_m: [f32; 3],
         velocity_ned_mps: [f32; 3],
+        accel_ned_mps2: [f32; 3],
     ) -> Result<(), LinkError> {
         let time_boot_ms = self.boot.elapsed().as_millis() as u32;
-        self.send(&position_velocity_target(
+        self.send(&position_target(
             self.system_id,
             time_boot_ms,
             position_ned_m,
             velocity_ned_mps,
+            accel_ned_mps2,
         ))
         .await
     }

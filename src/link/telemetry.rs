@@ -1,6 +1,7 @@
 //! The latest known state of one vehicle, as its telemetry reported it.
 
 use super::flavour::Flavour;
+use crate::mission::Geodetic;
 use mavlink::dialects::common::MavLandedState;
 use std::time::Instant;
 
@@ -51,6 +52,10 @@ pub struct VehicleState {
     /// The latest STATUSTEXT about pre-arm checks (ArduPilot's "PreArm: …", PX4's
     /// "Preflight Fail: …"): why the vehicle will not arm.
     pub prearm_reason: Option<String>,
+    /// GPS_GLOBAL_ORIGIN: the geodetic point where the vehicle's local frame is zero.
+    pub gps_origin: Option<Geodetic>,
+    /// HOME_POSITION's geodetic point (where the vehicle armed or booted).
+    pub home: Option<Geodetic>,
     /// Every position sample received, for the flight log (when recording is on).
     pub track: Vec<PositionSample>,
     /// Append every position sample to `track` (on from arming, for the flight log).

@@ -93,6 +93,12 @@ pub struct WorldSpec {
     /// height. It must be above 0 and at least the safety distance below layer 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pad_height_m: Option<f64>,
+    /// Where the mission's ENU origin is on Earth (WGS84, altitude AMSL of the
+    /// ground the pads stand on). With it, swarmctl places every vehicle's own local
+    /// frame from the vehicle's GPS origin and refuses a vehicle that stands on the
+    /// wrong pad; without it, each vehicle is taken to stand on its pad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geo_origin: Option<Geodetic>,
     /// Voxels no drone may enter; none by default.
     #[serde(default)]
     pub obstacles: Vec<ObstacleSpec>,
@@ -141,6 +147,18 @@ impl<'de> Deserialize<'de> for ObstacleSpec {
     }
 }
 
+/// A point on Earth: WGS84 latitude and longitude, altitude above mean sea level.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geodetic {
+    /// Latitude, degrees north (−90 to 90).
+    pub lat_deg: f64,
+    /// Longitude, degrees east (−180 to 180).
+    pub lon_deg: f64,
+    /// Altitude above mean sea level, metres.
+    pub alt_m: f64,
+}
+
 /// An inclusive box of voxels: walls and floors in one line instead of hundreds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -161,6 +179,12 @@ pub struct LimitsSpec {
     pub max_accel_mps2: f64,
     /// Drones never come closer than this, metres (centre to centre).
     pub safety_distance_m: f64,
+    /// How far every vehicle is trusted to stay from its setpoint, metres: the
+    /// schedule keeps setpoints `safety_distance_m + 2 × tracking_error_m` apart and
+    /// the executor holds back a drone that strays further. By default all the room
+    /// the geometry leaves, at most 0.30 m (see [`super::types::Limits`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tracking_error_m: Option<f64>,
 }
 
 /// Which autopilot firmware the vehicles run; decides offboard (PX4) or guided (ArduPilot).

@@ -1,5 +1,6 @@
 //! A validated mission: every field checked, coordinates inside the world.
 
+pub use super::schema::Geodetic;
 use super::schema::{Autopilot, Landing};
 use crate::world::{Voxel, VoxelGrid};
 use serde::{Deserialize, Serialize};
@@ -19,6 +20,8 @@ pub struct Mission {
     pub airspace: VoxelGrid,
     /// Kinematic and safety limits every trajectory keeps.
     pub limits: Limits,
+    /// Where the mission's ENU origin is on Earth, if the mission says.
+    pub geo_origin: Option<Geodetic>,
     /// How the vehicles are driven over MAVLink.
     pub link: LinkSettings,
     /// At least one group; every drone has its own pad and can reach a goal of its
@@ -100,6 +103,30 @@ pub struct Limits {
     pub max_accel_mps2: f64,
     /// Drones never come closer than this, metres (centre to centre); positive.
     pub safety_distance_m: f64,
+    /// How far every vehicle is trusted to stay from its setpoint, metres; zero or
+    /// more. The schedule keeps setpoints [`Limits::setpoint_separation_m`] apart, so
+    /// vehicles within this of their setpoints keep `safety_distance_m`; the executor
+    /// holds a drone's setpoint while the drone is further than this from it.
+    ///
+    /// Validation demands `safety_distance_m + 2 × tracking_error_m` fit between
+    /// neighbouring cell centres (the voxel size, and the gap from the pad layer to
+    /// layer 0) with a centimetre to spare on each side. When the mission does not
+    /// say, it is [`DEFAULT_TRACKING_ERROR_M`] or the room the geometry leaves,
+    /// whichever is less — for PX4 and ArduPilot
+    /// alike: both hold about that at 1 m/s with velocity feed-forward.
+    pub tracking_error_m: f64,
+}
+
+/// The tracking error a mission trusts its vehicles to keep when it does not say,
+/// metres (less when the geometry leaves less room).
+pub const DEFAULT_TRACKING_ERROR_M: f64 = 0.30;
+
+impl Limits {
+    /// How far apart the schedule keeps setpoints: the safety distance plus the
+    /// tracking error of both drones.
+    pub fn setpoint_separation_m(&self) -> f64 {
+        self.safety_distance_m + 2.0 * self.tracking_error_m
+    }
 }
 
 /// How the vehicles are driven over MAVLink.

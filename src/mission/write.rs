@@ -36,6 +36,13 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
     if let Some(h) = world.pad_height_m {
         writeln!(out, "  pad_height_m: {h:?}")?;
     }
+    if let Some(g) = &world.geo_origin {
+        writeln!(
+            out,
+            "  geo_origin: {{ lat_deg: {:?}, lon_deg: {:?}, alt_m: {:?} }}",
+            g.lat_deg, g.lon_deg, g.alt_m
+        )?;
+    }
     if world.obstacles.is_empty() {
         writeln!(out, "  obstacles: []")?;
     } else {
@@ -57,6 +64,9 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
     writeln!(out, "  max_speed_mps: {:?}", limits.max_speed_mps)?;
     writeln!(out, "  max_accel_mps2: {:?}", limits.max_accel_mps2)?;
     writeln!(out, "  safety_distance_m: {:?}", limits.safety_distance_m)?;
+    if let Some(e) = limits.tracking_error_m {
+        writeln!(out, "  tracking_error_m: {e:?}")?;
+    }
     let link = &file.link;
     writeln!(out, "link:")?;
     writeln!(out, "  autopilot: {}", link.autopilot)?;

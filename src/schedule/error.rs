@@ -6,15 +6,17 @@ use crate::world::Voxel;
 /// and a [`Schedule`](super::Schedule).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ScheduleError {
-    /// The safety argument needs `safety_distance_m <= voxel_size_m` (see the module docs).
+    /// The safety argument needs the setpoint separation (safety distance plus twice
+    /// the tracking error) at most the spacing of cell centres (see the module docs).
     #[error(
-        "safety distance {safety_distance_m} m exceeds the voxel size {voxel_size_m} m: drones \
-         waiting in face-adjacent voxels are only {voxel_size_m} m apart, so no schedule of a \
-         voxel plan can keep {safety_distance_m} m; use voxels at least as large as the safety \
-         distance or a smaller safety distance"
+        "setpoint separation {safety_distance_m} m (safety distance plus twice the tracking \
+         error) exceeds the spacing of cell centres {voxel_size_m} m: drones waiting in \
+         neighbouring cells are only {voxel_size_m} m apart, so no schedule of a voxel plan \
+         can keep {safety_distance_m} m; use larger voxels, or a smaller safety distance or \
+         tracking error"
     )]
     SafetyDistanceTooLarge {
-        /// The mission's safety distance, metres.
+        /// The separation setpoints must keep, metres.
         safety_distance_m: f64,
         /// The mission's voxel edge length, metres.
         voxel_size_m: f64,

@@ -81,6 +81,16 @@
 //! These edges only delay departures, so they never weaken the argument above, and
 //! they keep the STN a set of difference constraints.
 //!
+//! **Tracking error.** Everything above is about *setpoints*, the points the drones
+//! are commanded to be at. Real vehicles are not exactly there: the mission trusts each
+//! to stay within its tracking error `e` of its setpoint (`limits.tracking_error_m`),
+//! and [`build`] runs the argument with `d' = d + 2e` in place of `d` — setpoints
+//! are kept `d'` apart, so two vehicles within `e` of theirs are at least `d` apart.
+//! Validation demands `d'` fit between neighbouring centres (voxel size and pad-layer
+//! gap). In flight `fly` holds a drone's setpoint while the vehicle is further than `e`
+//! from it (and, through the gates, everyone waiting for it), and reports whether the
+//! bound held.
+//!
 //! **Cycles.** A rotation (drones following each other round a loop in one step) and a
 //! swap make the TPG cyclic: no precedence schedule can execute them with a safety
 //! distance, and [`solve`] reports [`ScheduleError::CyclicPlan`].

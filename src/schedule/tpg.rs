@@ -85,11 +85,16 @@ pub struct TpgDrone {
 pub struct Tpg {
     /// The mission's voxel edge length, metres.
     pub voxel_size_m: f64,
-    /// The mission's safety distance, metres; at most `voxel_size_m`.
+    /// The separation the markers keep between setpoints, metres: the mission's
+    /// safety distance plus twice its tracking error (see
+    /// [`Limits::setpoint_separation_m`]); at most `voxel_size_m`.
+    pub separation_m: f64,
+    /// The mission's safety distance, metres: what real drones keep while each
+    /// stays within the tracking error of its setpoint.
     pub safety_distance_m: f64,
-    /// δ = (voxel size − safety distance) / 2: where markers sit, from each end of a move.
+    /// δ = (voxel size − separation) / 2: where markers sit, from each end of a move.
     pub marker_offset_m: f64,
-    /// (voxel size + safety distance) / 2: a drone holds a voxel while its path distance
+    /// (voxel size + separation) / 2: a drone holds a voxel while its path distance
     /// to that visit of the voxel's centre is below this.
     pub hold_radius_m: f64,
     /// Speed limit the schedule's runs obey, m/s.
@@ -135,10 +140,18 @@ pub fn build_with(
     plan: &DiscretePlan,
 ) -> Result<Tpg, ScheduleError> {
     let s = world.voxel_size_m();
-    let d = limits.safety_distance_m;
+    // Setpoints are kept apart by the safety distance plus both drones' tracking
+    // error; everything below argues about setpoints with this `d`.
+    let d = limits.setpoint_separation_m();
+    if !(limits.tracking_error_m.is_finite() && limits.tracking_error_m >= 0.0) {
+        return Err(ScheduleError::BadLimit {
+            name: "limits.tracking_error_m",
+            value: limits.tracking_error_m,
+        });
+    }
     for (name, value) in [
         ("world.voxel_size_m", s),
-        ("limits.safety_distance_m", d),
+        ("limits.safety_distance_m", limits.safety_distance_m),
         ("limits.max_speed_mps", limits.max_speed_mps),
         ("limits.max_accel_mps2", limits.max_accel_mps2),
     ] {
@@ -178,7 +191,8 @@ pub fn build_with(
     cross_edges.sort_unstable_by_key(|e| (e.to, e.from));
     Ok(Tpg {
         voxel_size_m: s,
-        safety_distance_m: d,
+        separation_m: d,
+        safety_distance_m: limits.safety_distance_m,
         marker_offset_m: delta,
         hold_radius_m: 0.5 * (s + d),
         max_speed_mps: limits.max_speed_mps,

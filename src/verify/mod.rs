@@ -1,6 +1,11 @@
 //! An independent check of sampled trajectories: separation, speed, acceleration,
 //! start and goal at rest.
 //!
+//! Samples are setpoints, so separation is checked against the setpoint separation
+//! the schedule promises ([`Limits::setpoint_separation_m`]: the safety distance
+//! plus twice the tracking error the vehicles are trusted to keep); with a zero
+//! tracking error that is the safety distance itself.
+//!
 //! It reads nothing but the samples `[t_s, x_m, y_m, z_m]` and the limits, and shares no
 //! code with the scheduler or the trajectory generator it checks.
 //!
@@ -123,7 +128,7 @@ pub enum CheckError {
 ///
 /// ```
 /// use swarmctl::mission::Limits;
-/// let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.5 };
+/// let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.5, tracking_error_m: 0.0 };
 /// let still = |x: f64| (0..5).map(|k| [k as f64 * 0.1, x, 0.0, 0.0]).collect::<Vec<_>>();
 /// let report = swarmctl::verify::check(&[still(0.0), still(0.4)], &limits).unwrap();
 /// assert!((report.min_separation_samples_m - 0.4).abs() < 1e-12);
@@ -139,7 +144,7 @@ pub fn check(samples: &[Vec<[f64; 4]>], limits: &Limits) -> Result<SeparationRep
     let drones: Vec<DroneReport> = samples.iter().map(|s| drone_report(s, period_s)).collect();
     let max_speed_mps = drones.iter().map(|d| d.max_speed_mps).fold(0.0, f64::max);
     let max_accel_mps2 = drones.iter().map(|d| d.max_accel_mps2).fold(0.0, f64::max);
-    let search_radius_m = 2.0 * limits.safety_distance_m;
+    let search_radius_m = 2.0 * limits.setpoint_separation_m();
     let margin_m = limits.max_accel_mps2 * period_s * period_s / 8.0;
     let sep = separation(samples, &times, search_radius_m, max_speed_mps, margin_m);
     let mut report = SeparationReport {
@@ -351,7 +356,8 @@ fn margin(s: &[[f64; 4]], k: usize, margin_m: f64) -> f64 {
 
 fn violations(report: &SeparationReport, limits: &Limits, period_s: f64) -> Vec<String> {
     let mut v = Vec::new();
-    if report.min_separation_bound_m < limits.safety_distance_m - TOLERANCE {
+    let separation_m = limits.setpoint_separation_m();
+    if report.min_separation_bound_m < separation_m - TOLERANCE {
         let who = report
             .closest
             .as_ref()
@@ -363,8 +369,11 @@ fn violations(report: &SeparationReport, limits: &Limits, period_s: f64) -> Vec<
             })
             .unwrap_or_default();
         v.push(format!(
-            "separation may drop to {:.4} m, below the safety distance {} m{who}",
-            report.min_separation_bound_m, limits.safety_distance_m
+            "separation may drop to {:.4} m, below the setpoint separation {} m (safety distance {} m plus twice the tracking error {} m){who}",
+            report.min_separation_bound_m,
+            separation_m,
+            limits.safety_distance_m,
+            limits.tracking_error_m
         ));
     }
     let rest_speed = 0.5 * limits.max_accel_mps2 * period_s + TOLERANCE;

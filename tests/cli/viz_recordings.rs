@@ -188,6 +188,10 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         gating_wait_s: 0.0,
         max_final_distance_to_goal_m: 0.0,
         worst_tracking: None,
+        tracking_bound_m: 0.3,
+        tracking_held: true,
+        tracking_holds: 0,
+        tracking_hold_s: 0.0,
         lost: Vec::new(),
         retired: Vec::new(),
         handed_over: Vec::new(),
@@ -207,6 +211,10 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
             gating_wait_s: 0.0,
             link_losses: 0,
             tracking_error: None,
+            tracking_holds: 0,
+            tracking_hold_s: 0.0,
+            frame: swarmctl::fly::placement::FrameFix::Shared,
+            local_origin_enu_m: [0.0; 3],
             samples: d
                 .trajectory
                 .iter()

@@ -26,7 +26,7 @@ fn fly_on_paper(m: &Mission) -> (DiscretePlan, CompiledPlan) {
     }
     let compiled = compiled::compile(m, &solution).unwrap_or_else(|e| panic!("{}: {e}", m.name));
     assert!(
-        compiled.check.min_separation_bound_m >= m.limits.safety_distance_m,
+        compiled.check.min_separation_bound_m >= m.limits.setpoint_separation_m(),
         "{}: {:?}",
         m.name,
         compiled.check

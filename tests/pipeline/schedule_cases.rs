@@ -25,12 +25,13 @@ fn mission(
         })
         .collect();
     let obstacles: Vec<String> = obstacles.iter().map(|o| format!("{o:?}")).collect();
+    // Setpoints exactly: these cases are about the markers' geometry for `d`.
     // Layer 0 above a pad layer hovering at 1 m, far enough for the safety distance
     // (cases whose safety distance exceeds the voxel are the schedule's to refuse).
     let origin_z = voxel_m.max(safety_m) + 1.0;
     let yaml = format!(
         "name: case\nworld: {{ dimensions: {dims:?}, voxel_size_m: {voxel_m}, origin_m: [0.0, 0.0, {origin_z}], pad_height_m: 1.0, obstacles: [{}] }}\n\
-         limits: {{ max_speed_mps: 1.0, max_accel_mps2: 2.0, safety_distance_m: {safety_m} }}\n\
+         limits: {{ max_speed_mps: 1.0, max_accel_mps2: 2.0, safety_distance_m: {safety_m}, tracking_error_m: 0.0 }}\n\
          groups:\n{}",
         obstacles.join(", "),
         groups.concat()
@@ -225,7 +226,8 @@ fn safety_distance_larger_than_voxel_is_rejected() {
     let err = schedule::build(&m, &p).unwrap_err();
     assert!(matches!(err, ScheduleError::SafetyDistanceTooLarge { .. }));
     assert!(
-        err.to_string().contains("exceeds the voxel size 0.5 m"),
+        err.to_string()
+            .contains("exceeds the spacing of cell centres 0.5 m"),
         "{err}"
     );
 }

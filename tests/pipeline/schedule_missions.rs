@@ -67,7 +67,7 @@ fn check_plan(
     let samples = t.sample(mission.link.setpoint_rate_hz);
     let report = verify::check(&samples, &mission.limits).unwrap();
     assert!(report.ok(), "{name}: {:?}", report.violations);
-    assert!(report.min_separation_bound_m >= mission.limits.safety_distance_m);
+    assert!(report.min_separation_bound_m >= mission.limits.setpoint_separation_m());
     assert!(report.max_speed_mps <= mission.limits.max_speed_mps + 1e-9);
     assert!(report.max_accel_mps2 <= mission.limits.max_accel_mps2 + 1e-9);
     // Each drone's samples start at its start centre and end at its goal centre.

@@ -28,6 +28,16 @@ pub struct Args {
     /// EKF and GPS; 5 on the bundled simulator, whose vehicles are ready at once).
     #[arg(long, value_name = "SECONDS")]
     ready_timeout: Option<f64>,
+    /// Every vehicle reports in the mission's frame (vehicles given a common EKF
+    /// origin by hand; the bundled SITL then shares one frame). By default each
+    /// vehicle has its own local frame, placed at pre-flight from its GPS origin
+    /// (with `world.geo_origin`) or from standing on its pad.
+    #[arg(long)]
+    shared_frame: bool,
+    /// Horizontal distance, metres, allowed between where a vehicle is found (its
+    /// GPS with `world.geo_origin`, or its report in a shared frame) and its pad.
+    #[arg(long, value_name = "METRES", default_value_t = 0.3)]
+    pad_tolerance: f64,
     /// Bundled SITL fault, repeatable: loss=10%, latency=50ms, slow=DRONE_ID:0.5,
     /// drop=DRONE_ID@5s+3s, refuse-arm=DRONE_ID.
     #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
@@ -130,6 +140,11 @@ async fn fly_async(
         .unwrap_or(if swarm.is_some() { 5.0 } else { 60.0 });
     options.ready_timeout = std::time::Duration::try_from_secs_f64(ready_s)
         .map_err(|_| anyhow::anyhow!("--ready-timeout must be a non-negative number of seconds"))?;
+    options.frames = frame_source(args);
+    if !(args.pad_tolerance.is_finite() && args.pad_tolerance > 0.0) {
+        anyhow::bail!("--pad-tolerance must be a positive number of metres");
+    }
+    options.start_tolerance_m = args.pad_tolerance;
     options.observers.extend(observer);
     let status = Arc::new(StatusView::new(if args.plain {
         StatusMode::Plain
@@ -233,8 +248,13 @@ async fn start_bundled_sitl(
             Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
         },
     };
-    let mut configs =
-        swarmctl_harness::bundled_sitl::vehicle_configs(mission, plan, flavour, &args.faults)?;
+    let mut configs = swarmctl_harness::bundled_sitl::vehicle_configs_in(
+        mission,
+        plan,
+        flavour,
+        &args.faults,
+        frame_source(args),
+    )?;
     for c in &mut configs {
         c.signing_key = signing_key.map(SigningKey::bytes);
     }
@@ -245,6 +265,15 @@ async fn start_bundled_sitl(
         links.len()
     );
     Ok((links, swarm))
+}
+
+/// Per-vehicle frames unless `--shared-frame`.
+fn frame_source(args: &Args) -> fly::FrameSource {
+    if args.shared_frame {
+        fly::FrameSource::Shared
+    } else {
+        fly::FrameSource::PerVehicle
+    }
 }
 
 /// The plan file, refused before anything starts unless it is a valid plan for

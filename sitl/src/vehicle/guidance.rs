@@ -33,6 +33,7 @@ impl Vehicle {
                         position_ned_m: [Some(home[0]), Some(home[1]), self.hold.position_ned_m[2]],
                         velocity_ned_mps: [None; 3],
                         yaw_rad: None,
+                        accel_ned_mps2: [None; 3],
                     }
                 }
             }
@@ -46,6 +47,7 @@ impl Vehicle {
             position_ned_m: [position[0], position[1], None],
             velocity_ned_mps: [None, None, Some(LAND_SPEED_MPS)],
             yaw_rad: None,
+            accel_ned_mps2: [None; 3],
         }
     }
 

@@ -75,6 +75,8 @@ pub struct Vehicle {
     pub(crate) initial_position_ned_m: [f32; 3],
     /// Geodetic position of the start point.
     pub(crate) home: GeoPoint,
+    /// Zero of the vehicle's local frame, shared NED frame.
+    pub(crate) local_origin_ned_m: [f32; 3],
     /// Kinematic limits including the speed-factor fault.
     pub(crate) limits: Limits,
     /// The configuration it was built from (faults, timeouts).
@@ -137,6 +139,7 @@ impl Vehicle {
             flavour: config.flavour,
             initial_position_ned_m: config.initial_position_ned_m,
             home: config.home,
+            local_origin_ned_m: config.local_origin_ned_m,
             limits: Limits {
                 max_speed_mps: config.max_speed_mps * speed_factor,
                 max_accel_mps2: config.max_accel_mps2,

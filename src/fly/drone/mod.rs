@@ -20,8 +20,9 @@ use super::log::LogEvent;
 use super::observer::DroneStatus;
 use super::path::Route;
 use super::phase::{FailReason, Phase, Request, RetireStage, Retirement};
+use super::placement::Placed;
 use super::settings::LoopSettings;
-use crate::link::{Flavour, Session, frames};
+use crate::link::{Flavour, Session, VehicleFrame, frames};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -42,6 +43,17 @@ pub struct SwarmTick {
     pub swarm_paused: bool,
 }
 
+/// The vehicle a drone flies on: its session, its autopilot family and where its
+/// local frame sits in the mission frame.
+pub struct Vehicle {
+    /// The MAVLink session with it.
+    pub session: Arc<Session>,
+    /// Its autopilot family.
+    pub flavour: Flavour,
+    /// Its local frame, as pre-flight placed it.
+    pub placed: Placed,
+}
+
 /// Everything the loop keeps per drone.
 pub struct DroneRun {
     /// Plan order, as command results and observers name it.
@@ -49,6 +61,8 @@ pub struct DroneRun {
     id: String,
     session: Arc<Session>,
     flavour: Flavour,
+    /// Its `mission_from_local` transform: every position in and out goes through it.
+    placed: Placed,
     route: Route,
     follower: Follower,
     progress: Progress,
@@ -59,6 +73,8 @@ pub struct DroneRun {
     position_m: Option<[f64; 3]>,
     /// Latest telemetry speed, metres per second.
     speed_mps: f64,
+    /// Latest telemetry velocity, ENU metres per second.
+    velocity_mps: [f64; 3],
     link_lost: bool,
     link_losses: usize,
     /// Seconds since any message from the vehicle.
@@ -78,6 +94,14 @@ pub struct DroneRun {
     final_distance_to_goal_m: Option<f64>,
     /// Distances from telemetry to the streamed setpoint, metres (see `tracking`).
     tracking_m: Vec<f64>,
+    /// Setpoints streamed in the last second, with when (see `tracking`).
+    setpoint_history: std::collections::VecDeque<(Instant, [f64; 3])>,
+    /// When the newest position sample arrived.
+    position_received: Option<Instant>,
+    /// Times its setpoint waited for the vehicle to come back within the tracking error.
+    tracking_holds: usize,
+    /// Seconds its setpoint waited so.
+    tracking_hold_s: f64,
     /// Since when telemetry has shown it where it is going and at rest (see `settle`).
     settled_since: Option<Instant>,
     /// Last setpoint streamed (held during takeoff phases and aborts).
@@ -90,11 +114,15 @@ impl DroneRun {
     pub fn new(
         index: usize,
         route: Route,
-        session: Arc<Session>,
-        flavour: Flavour,
+        vehicle: Vehicle,
         follower: Follower,
         commands: CommandSender,
     ) -> Self {
+        let Vehicle {
+            session,
+            flavour,
+            placed,
+        } = vehicle;
         let phase = match flavour {
             Flavour::Px4 => Phase::EnterOffboard {
                 since: Instant::now(),
@@ -109,6 +137,7 @@ impl DroneRun {
             id: route.id.clone(),
             session,
             flavour,
+            placed,
             route,
             follower,
             progress: Progress::default(),
@@ -116,6 +145,7 @@ impl DroneRun {
             phase,
             position_m: None,
             speed_mps: 0.0,
+            velocity_mps: [0.0; 3],
             link_lost: false,
             link_losses: 0,
             silent_s: 0.0,
@@ -129,6 +159,10 @@ impl DroneRun {
             final_distance_to_goal_m: None,
             settled_since: None,
             tracking_m: Vec::new(),
+            setpoint_history: std::collections::VecDeque::new(),
+            position_received: None,
+            tracking_holds: 0,
+            tracking_hold_s: 0.0,
             last_setpoint: None,
             commands,
         }
@@ -147,6 +181,16 @@ impl DroneRun {
     /// The vehicle's autopilot family.
     pub fn flavour(&self) -> Flavour {
         self.flavour
+    }
+
+    /// Its vehicle's `mission_from_local` transform.
+    pub fn frame(&self) -> VehicleFrame {
+        self.placed.frame
+    }
+
+    /// Its vehicle's frame and how pre-flight found it.
+    pub fn placed(&self) -> Placed {
+        self.placed
     }
 
     /// The route it flies.
@@ -177,6 +221,15 @@ impl DroneRun {
     /// Latest telemetry speed, metres per second.
     pub fn speed_mps(&self) -> f64 {
         self.speed_mps
+    }
+
+    /// Where telemetry says it would come to rest braking at `max_accel_mps2` from
+    /// its current velocity (its position when at rest), ENU metres.
+    pub fn stopping_point_m(&self, max_accel_mps2: f64) -> Option<[f64; 3]> {
+        let p = self.position_m?;
+        let v = self.velocity_mps;
+        let reach = self.speed_mps / (2.0 * max_accel_mps2.max(1e-3));
+        Some(std::array::from_fn(|i| p[i] + v[i] * reach))
     }
 
     /// Nothing heard for the mission's link timeout.
@@ -274,9 +327,11 @@ impl DroneRun {
         }
         self.telemetry_stale = stale;
         if let Some(p) = position {
-            self.position_m = Some(frames::enu_from_ned_f32(p.position_ned_m));
+            self.position_m = Some(self.placed.frame.mission_from_local(p.position_ned_m));
+            self.position_received = Some(p.received);
             let v = p.velocity_ned_mps.map(f64::from);
             self.speed_mps = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            self.velocity_mps = frames::enu_from_ned(v);
         }
         // Any message proves the link: under heavy loss heartbeats alone (1 Hz) go
         // missing for seconds while telemetry (20 Hz) still gets through.
@@ -327,10 +382,7 @@ impl DroneRun {
 
     /// A setpoint holding above the pad (where the route begins).
     fn hold_start(&self) -> Setpoint {
-        Setpoint {
-            position_m: self.route.start_m,
-            velocity_mps: [0.0; 3],
-        }
+        Setpoint::rest(self.route.start_m)
     }
 
     /// Gives up on the drone for `reason`, logging it.
@@ -369,8 +421,9 @@ impl DroneRun {
             let _ = self
                 .session
                 .send_setpoint(
-                    frames::ned_f32_from_enu(s.position_m),
+                    self.placed.frame.local_from_mission(s.position_m),
                     frames::ned_f32_from_enu(s.velocity_mps),
+                    frames::ned_f32_from_enu(s.acceleration_mps2),
                 )
                 .await;
         }

@@ -10,8 +10,10 @@ use crate::fly::settings::LoopSettings;
 
 impl DroneRun {
     /// Folds telemetry into observed progress, while the drone is in the plan and
-    /// we can see it.
-    pub fn observe_progress(&mut self, t_s: f64) {
+    /// we can see it. The follower starts a run only once telemetry has settled
+    /// within `settle_tolerance_m` of the previous run's end, so that end counts
+    /// as reached within the same tolerance.
+    pub fn observe_progress(&mut self, t_s: f64, settle_tolerance_m: f64) {
         let observed = matches!(
             self.phase,
             Phase::Flying | Phase::AtGoal | Phase::Retiring { .. }
@@ -22,8 +24,26 @@ impl DroneRun {
         if let Some(p) = self.position_m {
             let arc = self.follower.arc_m(&self.route, t_s);
             let run = self.follower.run_index();
-            self.progress.observe(&self.route, p, arc, run, t_s);
+            self.progress
+                .observe(&self.route, p, (arc, run), t_s, settle_tolerance_m);
         }
+    }
+
+    /// Holds the setpoint where it is while the vehicle is further from it than the
+    /// mission's tracking error (see `Follower::hold_for_tracking`), counting the
+    /// holds. Not while paused or aborting, which brake anyway, nor with a zero bound,
+    /// which no vehicle keeps.
+    fn enforce_tracking(&mut self, settings: &LoopSettings, t_s: f64, dt_s: f64, braking: bool) {
+        let bound_m = settings.tracking_error_m;
+        let straying =
+            !braking && bound_m > 0.0 && self.tracking_distance_m().is_some_and(|e| e > bound_m);
+        if straying {
+            if self.follower.hold != Hold::Tracking {
+                self.tracking_holds += 1;
+            }
+            self.tracking_hold_s += dt_s;
+        }
+        self.follower.hold_for_tracking(straying, t_s);
     }
 
     /// Moves the commanded motion on to the first closed gate (from everyone's
@@ -52,6 +72,7 @@ impl DroneRun {
         let paused = self.link_lost || self.telemetry_stale || self.resuming() || swarm_paused;
         let was_gated = self.follower.hold == Hold::Gate;
         self.follower.set_paused(paused);
+        self.enforce_tracking(settings, t_s, dt_s, paused || aborting);
         let setpoint = self
             .follower
             .step(&self.route, t_s, dt_s, gate_arc_m, settled);

@@ -27,10 +27,7 @@ impl DroneRun {
         let start_m = self.route.start_m;
         let ground = self.position_m.map_or([start_m[0], start_m[1], 0.0], |p| p);
         if self.last_setpoint.is_none() {
-            self.last_setpoint = Some(Setpoint {
-                position_m: ground,
-                velocity_mps: [0.0; 3],
-            });
+            self.last_setpoint = Some(Setpoint::rest(ground));
         }
         let Phase::EnterOffboard { since, request } = &mut self.phase else {
             return;
@@ -74,6 +71,7 @@ impl DroneRun {
                 from_z_m + sign * profile.distance_at_m(tau),
             ],
             velocity_mps: [0.0, 0.0, sign * profile.speed_at_mps(tau)],
+            acceleration_mps2: [0.0, 0.0, sign * profile.accel_at_mps2(tau)],
         });
         if tau >= profile.duration_s() && self.settled_at(start_m, settings.settle_tolerance_m) {
             self.phase = Phase::AtStart;

@@ -49,6 +49,12 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     let Some(pad_height_m) = pad_height_m.filter(|_| report.is_empty()) else {
         return Err(report.into_problems());
     };
+    let tracking_error_m = settings::tracking_error(
+        &file.limits,
+        file.world.voxel_size_m,
+        file.world.origin_m[2] - pad_height_m,
+        &mut report,
+    );
     let airspace = pads::airspace(&world, pad_height_m, &groups);
     reachability::check_reachability(&airspace, &groups, &stages, &mut report);
     if !report.is_empty() {
@@ -64,7 +70,9 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             max_speed_mps: limits.max_speed_mps,
             max_accel_mps2: limits.max_accel_mps2,
             safety_distance_m: limits.safety_distance_m,
+            tracking_error_m,
         },
+        geo_origin: file.world.geo_origin,
         link: LinkSettings {
             autopilot: link.autopilot,
             setpoint_rate_hz: link.setpoint_rate_hz,

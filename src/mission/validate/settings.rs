@@ -4,7 +4,7 @@
 use super::bounds::{MAX_DIMENSION, MAX_VOXELS};
 use super::report::Report;
 use crate::mission::schema::{LimitsSpec, LinkSpec, WorldSpec};
-use crate::mission::types::KeySource;
+use crate::mission::types::{DEFAULT_TRACKING_ERROR_M, KeySource};
 
 /// PX4 leaves offboard below 2 Hz; far above 100 Hz no autopilot listens.
 const SETPOINT_RATES_HZ: std::ops::RangeInclusive<f64> = 2.5..=100.0;
@@ -24,7 +24,72 @@ pub(super) fn check_world(world: &WorldSpec, report: &mut Report) -> Option<[u32
     if world.origin_m.iter().any(|c| !c.is_finite()) {
         report.add("world.origin_m", "must be finite numbers");
     }
+    if let Some(g) = &world.geo_origin {
+        if !(g.lat_deg.is_finite() && (-90.0..=90.0).contains(&g.lat_deg)) {
+            report.add(
+                "world.geo_origin.lat_deg",
+                format!("{} is not a latitude (−90 to 90 degrees)", g.lat_deg),
+            );
+        }
+        if !(g.lon_deg.is_finite() && (-180.0..=180.0).contains(&g.lon_deg)) {
+            report.add(
+                "world.geo_origin.lon_deg",
+                format!("{} is not a longitude (−180 to 180 degrees)", g.lon_deg),
+            );
+        }
+        if !g.alt_m.is_finite() {
+            report.add(
+                "world.geo_origin.alt_m",
+                "must be a finite number of metres",
+            );
+        }
+    }
     dimensions
+}
+
+/// Of the room the spacing leaves for tracking, this much is kept back on each side.
+const TRACKING_MARGIN_M: f64 = 0.01;
+
+/// The tracking error the vehicles are trusted to keep: the mission's, if it fits
+/// the geometry, else the default. Setpoints are kept `d + 2e` apart, and the
+/// closest two cell centres are the voxel size or the pad layer's gap below layer 0
+/// apart, so `d + 2e` must fit in both. Reports a written value that does not fit,
+/// with the numbers.
+pub(super) fn tracking_error(
+    limits: &LimitsSpec,
+    voxel_size_m: f64,
+    pad_gap_m: f64,
+    report: &mut Report,
+) -> f64 {
+    let d = limits.safety_distance_m;
+    let spacing_m = voxel_size_m.min(pad_gap_m);
+    // Leave a centimetre of the spacing unused: setpoints of drones in neighbouring
+    // cells then never sit exactly at the separation, which a sampled check (and
+    // a real controller) cannot tell from just below it.
+    let room_m = (0.5 * (spacing_m - d) - TRACKING_MARGIN_M).max(0.0);
+    let Some(e) = limits.tracking_error_m else {
+        return DEFAULT_TRACKING_ERROR_M.min(room_m);
+    };
+    if !(e.is_finite() && e >= 0.0) {
+        report.add(
+            "limits.tracking_error_m",
+            format!("must be zero or a positive number of m, got {e}"),
+        );
+    } else if e > 0.0 && e > room_m + 1e-9 {
+        let (what, spacing) = if pad_gap_m < voxel_size_m {
+            ("the pad layer's gap below layer 0", pad_gap_m)
+        } else {
+            ("the voxel size", voxel_size_m)
+        };
+        report.add(
+            "limits.tracking_error_m",
+            format!(
+                "{e:.3} m does not fit: setpoints must stay the safety distance plus twice the tracking error apart ({d:.3} + 2 × {e:.3} = {:.3} m, with {TRACKING_MARGIN_M} m to spare on each side), but {what} is only {spacing:.3} m; at most {room_m:.3} m fits (use larger voxels, a higher layer 0, or a smaller safety distance)",
+                d + 2.0 * e
+            ),
+        );
+    }
+    e
 }
 
 /// Every edge from 1 to [`MAX_DIMENSION`] voxels, and at most [`MAX_VOXELS`] in all.
