@@ -67,6 +67,14 @@ impl Params {
                     value: config.max_accel_mps2 * 100.0,
                 },
                 Param {
+                    name: "WPNAV_SPEED_UP",
+                    value: 250.0,
+                },
+                Param {
+                    name: "WPNAV_SPEED_DN",
+                    value: 150.0,
+                },
+                Param {
                     name: "LAND_SPEED",
                     value: 70.0,
                 },

@@ -41,14 +41,44 @@ const COLUMN_RETRY_S: f64 = 5.0;
 /// Whether the swarm must be at rest this tick: a retiring drone is about to
 /// descend, or its autopilot is bringing it down.
 pub fn swarm_paused(drones: &[DroneRun]) -> bool {
-    drones.iter().any(|d| {
-        matches!(
-            d.phase(),
-            Phase::Retiring {
-                stage: RetireStage::Halting | RetireStage::AutopilotLanding,
-            }
-        ) || matches!(d.phase(), Phase::Landing { .. } if d.retired().is_some())
-    })
+    drones.iter().any(descending_out_of_plan)
+}
+
+/// A retiring drone that is about to come down, or is being brought down.
+fn descending_out_of_plan(d: &DroneRun) -> bool {
+    matches!(
+        d.phase(),
+        Phase::Retiring {
+            stage: RetireStage::Halting | RetireStage::AutopilotLanding,
+        }
+    ) || matches!(d.phase(), Phase::Landing { .. } if d.retired().is_some())
+}
+
+/// Whether drone `i` must be at rest this tick: the swarm is paused
+/// ([`swarm_paused`]) and `i` is not under a drone coming down. One that is under
+/// it keeps flying its plan (its gates still hold it), out of the column: an
+/// autopilot's failsafe lands where the vehicle is, whatever is below, and pausing
+/// there would wait for it to come down on top.
+pub fn paused_for(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> bool {
+    let Some(p) = drones.get(i).and_then(DroneRun::position_m) else {
+        return swarm_paused(drones);
+    };
+    let mut paused = false;
+    for (j, other) in drones.iter().enumerate() {
+        if j == i || !descending_out_of_plan(other) {
+            continue;
+        }
+        let Some(q) = other.position_m() else {
+            paused = true;
+            continue;
+        };
+        let horizontal = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+        if q[2] > p[2] && horizontal < safety_distance_m + COLUMN_MARGIN_M {
+            return false;
+        }
+        paused = true;
+    }
+    paused
 }
 
 /// True if `i` can descend vertically: no other drone is below it within the safety

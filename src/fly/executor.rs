@@ -204,13 +204,17 @@ impl<'a> Flight<'a> {
             d.observe_progress(t_s, self.settings.settle_tolerance_m);
         }
         let progress: Vec<Progress> = self.drones.iter().map(|d| d.progress().clone()).collect();
-        let tick = SwarmTick {
-            t_s,
-            dt_s,
-            aborting: self.aborting,
-            swarm_paused: contingency::swarm_paused(self.drones),
-        };
-        for d in self.drones.iter_mut() {
+        let d_m = self.settings.safety_distance_m;
+        let paused: Vec<bool> = (0..self.drones.len())
+            .map(|i| contingency::paused_for(self.drones, i, d_m))
+            .collect();
+        for (d, swarm_paused) in self.drones.iter_mut().zip(paused) {
+            let tick = SwarmTick {
+                t_s,
+                dt_s,
+                aborting: self.aborting,
+                swarm_paused,
+            };
             d.step_plan(&self.settings, tick, &progress);
         }
     }

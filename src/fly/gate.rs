@@ -139,6 +139,50 @@ mod tests {
         }
     }
 
+    fn run(from_m: [f64; 3], to_m: [f64; 3], arc_start_m: f64) -> crate::fly::path::RouteRun {
+        let length_m = crate::fly::path::distance_m(from_m, to_m);
+        crate::fly::path::RouteRun {
+            from_m,
+            to_m,
+            length_m,
+            arc_start_m,
+            scheduled_start_s: 0.0,
+            profile: crate::trajectory::Profile::new(length_m, 1.0, 1.0),
+        }
+    }
+
+    /// A vehicle that settled 7 cm short of a corner (within the 5 cm settle
+    /// tolerance the follower starts the next run on, plus the 3 cm reach tolerance)
+    /// and turned it is seen to have
+    /// finished the first run: its events at the corner, and those it passes on the
+    /// second run, count as reached. Seen only along the first run's line, it never
+    /// would be, and every drone gated on it would wait for ever.
+    #[test]
+    fn a_corner_cut_inside_the_settle_tolerance_still_counts() {
+        let event = |arc_m: f64| RouteEvent {
+            arc_m,
+            reach_s: 0.0,
+            after: Vec::new(),
+            hold_s: 0.0,
+        };
+        let mut r = route(vec![event(1.0), event(1.5)]);
+        r.runs = vec![
+            run([0.0; 3], [1.0, 0.0, 0.0], 0.0),
+            run([1.0, 0.0, 0.0], [1.0, 1.0, 0.0], 1.0),
+        ];
+        let mut p = Progress::default();
+        // Settled 7 cm short; the follower has moved on to run 1.
+        p.observe(&r, [0.93, 0.0, 0.0], (1.0, 1), 1.0, 0.05);
+        assert_eq!(p.observed_run, 1);
+        assert_eq!(p.reached, 1, "the corner's event");
+        p.observe(&r, [0.95, 0.6, 0.0], (1.6, 1), 2.0, 0.05);
+        assert_eq!(p.reached, 2, "and the one half-way along run 1");
+        // With no settle tolerance only the 3 cm reach tolerance is left twice: missed.
+        let mut strict = Progress::default();
+        strict.observe(&r, [0.93, 0.0, 0.0], (1.0, 1), 1.0, 0.0);
+        assert_eq!((strict.observed_run, strict.reached), (0, 0));
+    }
+
     #[test]
     fn a_hold_keeps_the_gate_closed_until_it_has_passed_since_the_last_arrival() {
         let other = EventId { drone: 1, index: 0 };

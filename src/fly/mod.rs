@@ -28,6 +28,7 @@ pub mod preflight;
 pub mod report;
 pub mod settings;
 pub mod tap;
+pub mod vehicle_limits;
 
 pub use error::FlyError;
 pub use faults::{FaultSpec, parse_fault};
@@ -68,6 +69,7 @@ pub async fn fly(
     let limits = preflight::PreflightLimits {
         frames: options.frames,
         geo_origin: mission.geo_origin,
+        mission_limits: mission.limits,
         heartbeat_timeout: options.heartbeat_timeout,
         ready_timeout: options.ready_timeout,
         start_tolerance_m: options.start_tolerance_m,

@@ -5,7 +5,7 @@
 use super::error::FlyError;
 use super::placement::{self, FrameSource, Placed, PlacementRules};
 use crate::link::{Flavour, Session};
-use crate::mission::Geodetic;
+use crate::mission::{Geodetic, Limits};
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::task::JoinSet;
@@ -17,6 +17,8 @@ pub struct PreflightLimits {
     pub frames: FrameSource,
     /// The mission's `world.geo_origin`, if it has one.
     pub geo_origin: Option<Geodetic>,
+    /// The mission's limits, set as the autopilot's own (see `vehicle_limits`).
+    pub mission_limits: Limits,
     /// How long to wait for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
     /// How long to wait for each vehicle to be ready: position telemetry and pre-arm
@@ -74,6 +76,7 @@ async fn check_one(
         tolerance_m: limits.start_tolerance_m,
     };
     let placed = placement::place(&id, &session, pad_enu_m, reported_ned_m, rules).await?;
+    super::vehicle_limits::apply(&id, &session, flavour, &limits.mission_limits).await?;
     Ok((flavour, placed))
 }
 

@@ -116,6 +116,11 @@ pub fn fold(
         MavMessage::HOME_POSITION(h) if from_autopilot => {
             state.home = geodetic(h.latitude, h.longitude, h.altitude).or(state.home);
         }
+        MavMessage::PARAM_VALUE(v) if from_autopilot && v.param_value.is_finite() => {
+            if let Ok(name) = v.param_id.to_str() {
+                state.params.insert(name.to_string(), v.param_value);
+            }
+        }
         MavMessage::STATUSTEXT(t) => {
             state.last_status_text = t.text.to_str().ok().map(str::to_string);
             if let Some(text) = &state.last_status_text

@@ -15,7 +15,9 @@ use super::messages::{
 use super::receive;
 use super::signing::SigningKey;
 use super::telemetry::VehicleState;
-use mavlink::dialects::common::{COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavResult};
+use mavlink::dialects::common::{
+    COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavParamType, MavResult, PARAM_SET_DATA,
+};
 use mavlink::error::MessageReadError;
 use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -261,6 +263,42 @@ impl Session {
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, height_m],
         )
         .await
+    }
+
+    /// Sets parameter `name` (REAL32, as both autopilots take these) and waits for
+    /// the vehicle's PARAM_VALUE to read back `value`, retrying like a command.
+    /// Returns the value read back; a vehicle that keeps another is an error.
+    pub async fn set_param(&self, name: &str, value: f32) -> Result<f32, LinkError> {
+        let close = |v: f32| (v - value).abs() <= 1e-3 * value.abs().max(1.0);
+        for _ in 0..self.policy.attempts {
+            self.send(&MavMessage::PARAM_SET(PARAM_SET_DATA {
+                param_value: value,
+                target_system: self.system_id,
+                target_component: super::messages::AUTOPILOT_COMPONENT_ID,
+                param_id: name.into(),
+                param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
+            }))
+            .await?;
+            let asked = Instant::now();
+            while asked.elapsed() < self.policy.ack_timeout {
+                if let Some(v) = self.state().params.get(name).copied()
+                    && close(v)
+                {
+                    return Ok(v);
+                }
+                tokio::time::sleep(Duration::from_millis(20)).await;
+            }
+        }
+        Err(LinkError::NotConfirmed {
+            what: format!(
+                "parameter {name} = {value} (reads back {})",
+                self.state()
+                    .params
+                    .get(name)
+                    .map_or("nothing".to_string(), |v| v.to_string())
+            ),
+            waited_s: self.policy.ack_timeout.as_secs_f64() * f64::from(self.policy.attempts),
+        })
     }
 
     /// Asks the vehicle to send message `message_id` once (MAV_CMD_REQUEST_MESSAGE).

@@ -56,6 +56,8 @@ pub struct VehicleState {
     pub gps_origin: Option<Geodetic>,
     /// HOME_POSITION's geodetic point (where the vehicle armed or booted).
     pub home: Option<Geodetic>,
+    /// Parameters the vehicle reported (PARAM_VALUE), by name.
+    pub params: std::collections::BTreeMap<String, f32>,
     /// Every position sample received, for the flight log (when recording is on).
     pub track: Vec<PositionSample>,
     /// Append every position sample to `track` (on from arming, for the flight log).
