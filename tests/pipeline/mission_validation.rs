@@ -605,3 +605,47 @@ proptest! {
         let _ = mission::from_yaml(&text, "fuzz.yaml".as_ref());
     }
 }
+
+/// The tracking error defaults to the room the geometry leaves (here the pad
+/// layer's 1.0 m gap and the 1.0 m voxels, minus the 0.3 m safety distance, halved,
+/// less 1 cm), at most 0.30 m; a written one that does not fit is refused with the
+/// numbers, and one that does is kept.
+#[test]
+fn tracking_error_defaults_to_the_room_and_is_refused_when_it_does_not_fit() {
+    let m = mission::from_yaml(BASE, "case.yaml".as_ref()).expect("valid");
+    assert!((m.limits.tracking_error_m - 0.34_f64.min(0.30)).abs() < 1e-9);
+    assert!((m.limits.setpoint_separation_m() - 0.9).abs() < 1e-9);
+
+    let big = BASE.replace(
+        "safety_distance_m: 0.3 }",
+        "safety_distance_m: 0.3, tracking_error_m: 0.4 }",
+    );
+    let found = problems_of(&big);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "limits.tracking_error_m");
+    assert!(
+        found[0].1.contains("0.300 + 2 × 0.400 = 1.100 m")
+            && found[0].1.contains("at most 0.340 m fits"),
+        "{}",
+        found[0].1
+    );
+
+    let fits = BASE.replace(
+        "safety_distance_m: 0.3 }",
+        "safety_distance_m: 0.3, tracking_error_m: 0.1 }",
+    );
+    let m = mission::from_yaml(&fits, "case.yaml".as_ref()).expect("valid");
+    assert_eq!(m.limits.tracking_error_m, 0.1);
+}
+
+/// A geo origin must be a place on Earth.
+#[test]
+fn geo_origin_out_of_range_is_refused() {
+    let yaml = BASE.replace(
+        "origin_m: [0.0, 0.0, 1.5]",
+        "origin_m: [0.0, 0.0, 1.5]\n  geo_origin: { lat_deg: 95.0, lon_deg: 8.5, alt_m: 488.0 }",
+    );
+    let found = problems_of(&yaml);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "world.geo_origin.lat_deg");
+}
