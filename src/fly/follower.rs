@@ -144,26 +144,18 @@ impl Follower {
     }
 
     /// While `straying` (the vehicle is further from its setpoint than the tracking
-    /// error it is trusted to keep), the setpoint stops where it is at `t_s` — at
-    /// once, not braking on: the vehicle, behind it, brakes by its own controller
-    /// onto a point of its scheduled path, which is where the separation argument
-    /// needs it. The run resumes from rest once the vehicle has settled there.
-    pub fn hold_for_tracking(&mut self, straying: bool, t_s: f64) {
-        if straying
-            && !self.frozen
-            && let Some(x_m) = self.moving_x_m(t_s)
-        {
-            self.motion = Motion::Rest { x_m };
-        }
+    /// error it is trusted to keep), the setpoint brakes to a stop within the
+    /// acceleration limit and waits there, on the scheduled path and short of any
+    /// closed gate, as for a pause. (Stopping it dead instead made ArduCopter, still
+    /// moving, overshoot by most of a metre and swing back.) The run resumes from
+    /// rest once the vehicle has settled there.
+    pub fn hold_for_tracking(&mut self, straying: bool) {
         self.frozen = straying;
     }
 
-    /// Position along the current run at `t_s` while moving or braking.
-    fn moving_x_m(&self, t_s: f64) -> Option<f64> {
-        match self.motion {
-            Motion::Rest { .. } => None,
-            _ => Some(self.state_at(t_s).0),
-        }
+    /// The setpoint is held for the vehicle to come back within the tracking error.
+    pub fn holding_for_tracking(&self) -> bool {
+        self.frozen
     }
 
     /// True when the commanded motion is at rest.
@@ -274,7 +266,7 @@ impl Follower {
                     }
                     let (x_next, v_next) = self.state_at(t_s + dt_s);
                     let stop_next_m = x_next + v_next * v_next / (2.0 * a);
-                    if self.halted || self.paused || stop_next_m > limit_x_m {
+                    if self.halted || self.paused || self.frozen || stop_next_m > limit_x_m {
                         // Braking from any earlier state stops no later (the stop point
                         // only grows along a profile), so the last validated time is safe.
                         let t_brake = t_s.min(self.validated_until_s);

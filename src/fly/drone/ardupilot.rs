@@ -31,13 +31,27 @@ impl DroneRun {
         match request.take_done() {
             None => {}
             // A lost ACK makes the retry meet a vehicle already climbing, which
-            // Copter answers FAILED: telemetry decides.
-            Some(Err(_)) if self.position_m.is_some_and(|p| p[2] > TAKEOFF_STARTED_M) => {
+            // Copter answers FAILED ("Takeoff: already flying"): telemetry decides,
+            // by height or by the landed state it reports.
+            Some(Err(_)) if self.taking_off() => {
                 self.phase = Phase::AwaitAltitude;
             }
             Some(Err(e)) => self.fail(FailReason::Takeoff(e), since_arm_s, events),
             Some(Ok(())) => self.phase = Phase::AwaitAltitude,
         }
+    }
+
+    /// Telemetry shows the vehicle leaving the ground: above [`TAKEOFF_STARTED_M`],
+    /// or EXTENDED_SYS_STATE saying it is taking off or in the air.
+    fn taking_off(&self) -> bool {
+        use mavlink::dialects::common::MavLandedState as L;
+        let climbing = self.position_m.is_some_and(|p| p[2] > TAKEOFF_STARTED_M);
+        let state = self.session.state().landed_state;
+        climbing
+            || matches!(
+                state,
+                Some(L::MAV_LANDED_STATE_TAKEOFF | L::MAV_LANDED_STATE_IN_AIR)
+            )
     }
 
     /// Copter climbs by itself; stream only once it is up, then correct the last

@@ -29,21 +29,21 @@ impl DroneRun {
         }
     }
 
-    /// Holds the setpoint where it is while the vehicle is further from it than the
+    /// Brakes the setpoint and holds it while the vehicle is further from it than the
     /// mission's tracking error (see `Follower::hold_for_tracking`), counting the
     /// holds. Not while paused or aborting, which brake anyway, nor with a zero bound,
     /// which no vehicle keeps.
-    fn enforce_tracking(&mut self, settings: &LoopSettings, t_s: f64, dt_s: f64, braking: bool) {
+    fn enforce_tracking(&mut self, settings: &LoopSettings, dt_s: f64, braking: bool) {
         let bound_m = settings.tracking_error_m;
         let straying =
             !braking && bound_m > 0.0 && self.tracking_distance_m().is_some_and(|e| e > bound_m);
         if straying {
-            if self.follower.hold != Hold::Tracking {
+            if !self.follower.holding_for_tracking() {
                 self.tracking_holds += 1;
             }
             self.tracking_hold_s += dt_s;
         }
-        self.follower.hold_for_tracking(straying, t_s);
+        self.follower.hold_for_tracking(straying);
     }
 
     /// Moves the commanded motion on to the first closed gate (from everyone's
@@ -72,7 +72,7 @@ impl DroneRun {
         let paused = self.link_lost || self.telemetry_stale || self.resuming() || swarm_paused;
         let was_gated = self.follower.hold == Hold::Gate;
         self.follower.set_paused(paused);
-        self.enforce_tracking(settings, t_s, dt_s, paused || aborting);
+        self.enforce_tracking(settings, dt_s, paused || aborting);
         let setpoint = self
             .follower
             .step(&self.route, t_s, dt_s, gate_arc_m, settled);
