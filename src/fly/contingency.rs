@@ -38,6 +38,11 @@ const AT_REST_MPS: f64 = 0.1;
 /// How long to let the swarm move before trying again to clear a blocked descent.
 const COLUMN_RETRY_S: f64 = 5.0;
 
+/// Horizontal distance between two ENU points, metres.
+fn horizontal_m(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
 /// Whether the swarm must be at rest this tick: a retiring drone is about to
 /// descend, or its autopilot is bringing it down.
 pub fn swarm_paused(drones: &[DroneRun]) -> bool {
@@ -72,7 +77,7 @@ pub fn paused_for(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> bool
             paused = true;
             continue;
         };
-        let horizontal = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+        let horizontal = horizontal_m(p, q);
         if q[2] > p[2] && horizontal < safety_distance_m + COLUMN_MARGIN_M {
             return false;
         }
@@ -97,7 +102,7 @@ pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> 
             .stopping_point_m(other.follower().max_accel_mps2())
             .unwrap_or(now);
         let under = |q: [f64; 3]| {
-            let horizontal = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+            let horizontal = horizontal_m(p, q);
             // One on the ground stays put: no margin, so neighbouring pads (at
             // least the safety distance apart) never block each other.
             let clearance_m = if q[2] > AIRBORNE_M {

@@ -85,9 +85,9 @@ pub struct Follower {
     /// Stop as soon as possible until unpaused (telemetry or link lost: the
     /// commanded target must not run away from a vehicle we cannot see).
     paused: bool,
-    /// The vehicle strays from its setpoint: the setpoint stands still where it is
-    /// until the vehicle is back (see [`Follower::hold_for_tracking`]).
-    frozen: bool,
+    /// The vehicle strays from its setpoint: the setpoint brakes and waits, as when
+    /// paused, until the vehicle is back (see [`Follower::hold_for_tracking`]).
+    tracking_hold: bool,
     /// Why it is not moving this tick, for gate-wait counting and the status view.
     pub hold: Hold,
 }
@@ -104,7 +104,7 @@ impl Follower {
             validated_until_s: 0.0,
             halted: false,
             paused: false,
-            frozen: false,
+            tracking_hold: false,
             hold: Hold::Schedule,
         }
     }
@@ -150,12 +150,12 @@ impl Follower {
     /// moving, overshoot by most of a metre and swing back.) The run resumes from
     /// rest once the vehicle has settled there.
     pub fn hold_for_tracking(&mut self, straying: bool) {
-        self.frozen = straying;
+        self.tracking_hold = straying;
     }
 
     /// The setpoint is held for the vehicle to come back within the tracking error.
     pub fn holding_for_tracking(&self) -> bool {
-        self.frozen
+        self.tracking_hold
     }
 
     /// True when the commanded motion is at rest.
@@ -230,7 +230,7 @@ impl Follower {
                     }
                     self.hold = if self.halted || self.paused {
                         Hold::Gate
-                    } else if self.frozen {
+                    } else if self.tracking_hold {
                         Hold::Tracking
                     } else if x_m <= 0.0 && t_s < run.scheduled_start_s {
                         Hold::Schedule
@@ -266,7 +266,7 @@ impl Follower {
                     }
                     let (x_next, v_next) = self.state_at(t_s + dt_s);
                     let stop_next_m = x_next + v_next * v_next / (2.0 * a);
-                    if self.halted || self.paused || self.frozen || stop_next_m > limit_x_m {
+                    if self.halted || self.paused || self.tracking_hold || stop_next_m > limit_x_m {
                         // Braking from any earlier state stops no later (the stop point
                         // only grows along a profile), so the last validated time is safe.
                         let t_brake = t_s.min(self.validated_until_s);

@@ -71,8 +71,6 @@ pub struct DroneRun {
     phase: Phase,
     /// Latest telemetry position, ENU metres.
     position_m: Option<[f64; 3]>,
-    /// Latest telemetry speed, metres per second.
-    speed_mps: f64,
     /// Latest telemetry velocity, ENU metres per second.
     velocity_mps: [f64; 3],
     link_lost: bool,
@@ -144,7 +142,6 @@ impl DroneRun {
             passed_events: 0,
             phase,
             position_m: None,
-            speed_mps: 0.0,
             velocity_mps: [0.0; 3],
             link_lost: false,
             link_losses: 0,
@@ -220,7 +217,7 @@ impl DroneRun {
 
     /// Latest telemetry speed, metres per second.
     pub fn speed_mps(&self) -> f64 {
-        self.speed_mps
+        super::path::distance_m(self.velocity_mps, [0.0; 3])
     }
 
     /// Where telemetry says it would come to rest braking at `max_accel_mps2` from
@@ -228,7 +225,7 @@ impl DroneRun {
     pub fn stopping_point_m(&self, max_accel_mps2: f64) -> Option<[f64; 3]> {
         let p = self.position_m?;
         let v = self.velocity_mps;
-        let reach = self.speed_mps / (2.0 * max_accel_mps2.max(1e-3));
+        let reach = self.speed_mps() / (2.0 * max_accel_mps2.max(1e-3));
         Some(std::array::from_fn(|i| p[i] + v[i] * reach))
     }
 
@@ -329,9 +326,7 @@ impl DroneRun {
         if let Some(p) = position {
             self.position_m = Some(self.placed.frame.mission_from_local(p.position_ned_m));
             self.position_received = Some(p.received);
-            let v = p.velocity_ned_mps.map(f64::from);
-            self.speed_mps = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            self.velocity_mps = frames::enu_from_ned(v);
+            self.velocity_mps = frames::enu_from_ned_f32(p.velocity_ned_mps);
         }
         // Any message proves the link: under heavy loss heartbeats alone (1 Hz) go
         // missing for seconds while telemetry (20 Hz) still gets through.

@@ -32,6 +32,6 @@ impl DroneRun {
 
     /// Telemetry shows the drone at rest: at most 0.15 m/s (`REST_SPEED_MPS`).
     pub fn at_rest(&self) -> bool {
-        self.speed_mps <= REST_SPEED_MPS
+        self.speed_mps() <= REST_SPEED_MPS
     }
 }
