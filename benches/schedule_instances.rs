@@ -31,6 +31,7 @@ pub fn lanes(drones: usize, seed: u64) -> (VoxelGrid, Limits, DiscretePlan) {
     let limits = Limits {
         max_speed_mps: 1.0,
         max_accel_mps2: 2.0,
+        max_jerk_mps3: 5.0,
         safety_distance_m: 0.25,
         tracking_error_m: 0.0,
     };

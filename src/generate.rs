@@ -173,6 +173,7 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         limits: LimitsSpec {
             max_speed_mps: 1.0,
             max_accel_mps2: 2.0,
+            max_jerk_mps3: None,
             safety_distance_m: 0.25 * voxel_size_m,
             tracking_error_m: None,
         },

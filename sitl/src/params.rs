@@ -66,6 +66,26 @@ impl Params {
                     name: "WPNAV_ACCEL",
                     value: config.max_accel_mps2 * 100.0,
                 },
+                // The position controller's jerk limits, m/s³ (ArduCopter's defaults;
+                // flight code sets them, the mock's dynamics do not read them).
+                Param {
+                    name: "PSC_JERK_XY",
+                    value: 5.0,
+                },
+                Param {
+                    name: "PSC_JERK_Z",
+                    value: 5.0,
+                },
+                // The mock has no attitude to tilt: acceleration feed-forward acts at
+                // once, so its attitude input time constant is zero.
+                Param {
+                    name: "ATC_INPUT_TC",
+                    value: 0.0,
+                },
+                Param {
+                    name: "WPNAV_ACCEL_Z",
+                    value: 100.0,
+                },
                 Param {
                     name: "WPNAV_SPEED_UP",
                     value: 250.0,

@@ -111,7 +111,7 @@ pub fn compile(mission: &Mission, solution: &Solution) -> Result<CompiledPlan, C
     let samples = trajectories.sample(mission.link.setpoint_rate_hz);
     // The checker sees the whole flight, from the ground up and back down.
     let l = &mission.limits;
-    let flight = trajectories.pad_to_pad(l.max_speed_mps, l.max_accel_mps2);
+    let flight = trajectories.pad_to_pad(mission.commanded_limits().kinematics());
     let check = verify::check(&flight.sample(mission.link.setpoint_rate_hz), l)?;
     if !check.ok() {
         return Err(CompileError::Limits(Box::new(name_drones(check, plan))));

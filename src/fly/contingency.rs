@@ -99,7 +99,7 @@ pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> 
         }
         let now = other.position_m()?;
         let stop = other
-            .stopping_point_m(other.follower().max_accel_mps2())
+            .stopping_point_m(other.follower().limits())
             .unwrap_or(now);
         let under = |q: [f64; 3]| {
             let horizontal = horizontal_m(p, q);

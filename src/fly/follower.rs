@@ -2,17 +2,19 @@
 //! any event whose TPG predecessors have not been observed yet.
 //!
 //! The motion is a continuous function of time built from three pieces, each
-//! within the speed and acceleration limits: *rest*, a rest-to-rest trapezoidal
-//! *run* (the scheduler's own profile), and a *brake* at full deceleration. A
-//! drone starts a run only at rest, and while moving it checks every tick that
+//! within the speed, acceleration and jerk limits: *rest*, a rest-to-rest S-curve
+//! *run* (the scheduler's own profile), and the shortest *brake* those limits allow.
+//! A drone starts a run only at rest, and while moving it checks every tick that
 //! braking one tick from now would still stop before the first closed gate; if
 //! not, it brakes now. Because gates only ever open, the check made at the
 //! previous tick stays valid, so a stop is always possible in time and no
-//! commanded setpoint needs more than `max_accel`. A drone stopped mid-run by a
-//! gate resumes with a fresh rest-to-rest profile over the rest of the run.
+//! commanded setpoint breaks a limit (the acceleration never jumps, so an
+//! autopilot that shapes its target with a jerk limit can follow it exactly). A
+//! drone stopped mid-run by a gate resumes with a fresh rest-to-rest profile over
+//! the rest of the run.
 
 use super::path::Route;
-use crate::trajectory::Profile;
+use crate::profile::{Brake, Kinematics, Profile, State};
 
 /// Stop this far short of a closed gate's marker.
 pub const STOP_MARGIN_M: f64 = 0.01;
@@ -27,8 +29,8 @@ enum Motion {
         profile: Profile,
         t0_s: f64,
     },
-    /// Braking at full deceleration from speed `v0_mps` at `x0_m`, started at `t0_s`.
-    Braking { x0_m: f64, v0_mps: f64, t0_s: f64 },
+    /// Braking to a stop (positions along the current run), started at `t0_s`.
+    Braking { brake: Brake, t0_s: f64 },
 }
 
 /// Why a drone is not moving right now (for the status view and the log).
@@ -73,8 +75,11 @@ impl Setpoint {
 /// The commanded motion of one drone along its route.
 #[derive(Debug, Clone)]
 pub struct Follower {
-    max_speed_mps: f64,
-    max_accel_mps2: f64,
+    limits: Kinematics,
+    /// The acceleration feed-forward is that of this much later, seconds, so the
+    /// vehicle's attitude lag does not make it trail (see
+    /// `fly::vehicle_limits::accel_lead_s`).
+    accel_lead_s: f64,
     /// Index of the current run; `runs.len()` when the route is finished.
     run: usize,
     motion: Motion,
@@ -93,12 +98,12 @@ pub struct Follower {
 }
 
 impl Follower {
-    /// At rest at the start of the route, within the mission's speed (m/s) and
-    /// acceleration (m/s²) limits.
-    pub fn new(max_speed_mps: f64, max_accel_mps2: f64) -> Self {
+    /// At rest at the start of the route, within the mission's kinematic limits,
+    /// sending its acceleration feed-forward `accel_lead_s` ahead of the motion.
+    pub fn new(limits: Kinematics, accel_lead_s: f64) -> Self {
         Self {
-            max_speed_mps,
-            max_accel_mps2,
+            limits,
+            accel_lead_s,
             run: 0,
             motion: Motion::Rest { x_m: 0.0 },
             validated_until_s: 0.0,
@@ -109,9 +114,9 @@ impl Follower {
         }
     }
 
-    /// The acceleration limit it keeps, m/s².
-    pub fn max_accel_mps2(&self) -> f64 {
-        self.max_accel_mps2
+    /// The kinematic limits it keeps.
+    pub fn limits(&self) -> Kinematics {
+        self.limits
     }
 
     /// True once the last run is finished (commanded; telemetry may still lag).
@@ -123,7 +128,7 @@ impl Follower {
     pub fn arc_m(&self, route: &Route, t_s: f64) -> f64 {
         match route.runs.get(self.run) {
             None => route.length_m(),
-            Some(r) => r.arc_start_m + self.state_at(t_s).0,
+            Some(r) => r.arc_start_m + self.state_at(t_s).x_m,
         }
     }
 
@@ -163,39 +168,23 @@ impl Follower {
         matches!(self.motion, Motion::Rest { .. })
     }
 
-    /// Signed acceleration along the current run at `t_s`, for the current motion.
-    fn accel_at(&self, t_s: f64) -> f64 {
+    /// Position along the current run, speed and acceleration at `t_s`, for the
+    /// current motion.
+    fn state_at(&self, t_s: f64) -> State {
         match self.motion {
-            Motion::Rest { .. } => 0.0,
-            Motion::Moving { profile, t0_s, .. } => profile.accel_at_mps2(t_s - t0_s),
-            Motion::Braking { v0_mps, t0_s, .. } => {
-                let tau = t_s - t0_s;
-                if tau >= 0.0 && tau < v0_mps / self.max_accel_mps2 {
-                    -self.max_accel_mps2
-                } else {
-                    0.0
-                }
-            }
-        }
-    }
-
-    /// Position along the current run and speed at `t_s`, for the current motion.
-    fn state_at(&self, t_s: f64) -> (f64, f64) {
-        match self.motion {
-            Motion::Rest { x_m } => (x_m, 0.0),
+            Motion::Rest { x_m } => State::rest(x_m),
             Motion::Moving {
                 x0_m,
                 profile,
                 t0_s,
             } => {
-                let tau = t_s - t0_s;
-                (x0_m + profile.distance_at_m(tau), profile.speed_at_mps(tau))
+                let s = profile.state_at(t_s - t0_s);
+                State {
+                    x_m: x0_m + s.x_m,
+                    ..s
+                }
             }
-            Motion::Braking { x0_m, v0_mps, t0_s } => {
-                let a = self.max_accel_mps2;
-                let tau = (t_s - t0_s).clamp(0.0, v0_mps / a);
-                (x0_m + v0_mps * tau - 0.5 * a * tau * tau, v0_mps - a * tau)
-            }
+            Motion::Braking { brake, t0_s } => brake.state_at(t_s - t0_s),
         }
     }
 
@@ -213,7 +202,7 @@ impl Follower {
         gate_arc_m: f64,
         settled: bool,
     ) -> Setpoint {
-        let a = self.max_accel_mps2;
+        let a = self.limits.max_accel_mps2;
         // A handful of transitions at most happen in one tick (finish a run, start the next).
         for _ in 0..4 {
             let Some(run) = route.runs.get(self.run) else {
@@ -247,7 +236,7 @@ impl Follower {
                     }
                     self.motion = Motion::Moving {
                         x0_m: x_m,
-                        profile: Profile::new(run.length_m - x_m, self.max_speed_mps, a),
+                        profile: Profile::new(run.length_m - x_m, self.limits),
                         t0_s: t_s,
                     };
                     self.validated_until_s = t_s;
@@ -264,16 +253,13 @@ impl Follower {
                         };
                         continue;
                     }
-                    let (x_next, v_next) = self.state_at(t_s + dt_s);
-                    let stop_next_m = x_next + v_next * v_next / (2.0 * a);
+                    let stop_next_m = Brake::new(self.state_at(t_s + dt_s), self.limits).stop_m();
                     if self.halted || self.paused || self.tracking_hold || stop_next_m > limit_x_m {
                         // Braking from any earlier state stops no later (the stop point
                         // only grows along a profile), so the last validated time is safe.
                         let t_brake = t_s.min(self.validated_until_s);
-                        let (x0_m, v0_mps) = self.state_at(t_brake);
                         self.motion = Motion::Braking {
-                            x0_m,
-                            v0_mps,
+                            brake: Brake::new(self.state_at(t_brake), self.limits),
                             t0_s: t_brake,
                         };
                         continue;
@@ -281,11 +267,11 @@ impl Follower {
                     self.validated_until_s = t_s + dt_s;
                     break;
                 }
-                Motion::Braking { x0_m, v0_mps, t0_s } => {
+                Motion::Braking { brake, t0_s } => {
                     self.hold = Hold::Gate;
-                    if t_s - t0_s >= v0_mps / a {
+                    if t_s - t0_s >= brake.duration_s() {
                         self.motion = Motion::Rest {
-                            x_m: x0_m + v0_mps * v0_mps / (2.0 * a),
+                            x_m: brake.stop_m(),
                         };
                         continue;
                     }
@@ -296,18 +282,21 @@ impl Follower {
         self.setpoint(route, t_s)
     }
 
-    /// The commanded position and velocity at `t_s` (ENU).
+    /// The commanded position and velocity at `t_s`, and the acceleration of the
+    /// current motion at `t_s` plus the lead (ENU). Only the current motion is
+    /// known, so at a run's start the led acceleration begins at that of the lead
+    /// time (a step of jerk × lead), and a brake decided later takes over from it.
     pub fn setpoint(&self, route: &Route, t_s: f64) -> Setpoint {
         match route.runs.get(self.run) {
             None => Setpoint::rest(route.goal_m()),
             Some(run) => {
-                let (x, v) = self.state_at(t_s);
-                let a = self.accel_at(t_s);
+                let s = self.state_at(t_s);
+                let led = self.state_at(t_s + self.accel_lead_s);
                 let u = run.unit();
                 Setpoint {
-                    position_m: run.point_m(x),
-                    velocity_mps: u.map(|c| c * v),
-                    acceleration_mps2: u.map(|c| c * a),
+                    position_m: run.point_m(s.x_m),
+                    velocity_mps: u.map(|c| c * s.v_mps),
+                    acceleration_mps2: u.map(|c| c * led.a_mps2),
                 }
             }
         }

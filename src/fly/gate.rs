@@ -147,7 +147,14 @@ mod tests {
             length_m,
             arc_start_m,
             scheduled_start_s: 0.0,
-            profile: crate::trajectory::Profile::new(length_m, 1.0, 1.0),
+            profile: crate::trajectory::Profile::new(
+                length_m,
+                crate::profile::Kinematics {
+                    max_speed_mps: 1.0,
+                    max_accel_mps2: 1.0,
+                    max_jerk_mps3: 5.0,
+                },
+            ),
         }
     }
 

@@ -76,7 +76,7 @@ pub async fn fly(
         position_rate_hz: mission.link.setpoint_rate_hz,
     };
     let checked = preflight::check_all(&ids, &sessions, &grounds, limits).await?;
-    let (flavours, placed): (Vec<_>, Vec<_>) = checked.into_iter().unzip();
+    let flavours: Vec<_> = checked.iter().map(|c| c.flavour).collect();
     let armed_at = Instant::now();
     for s in &sessions {
         s.state().recording = true;
@@ -84,19 +84,19 @@ pub async fn fly(
     preflight::arm_all(&ids, &sessions, &flavours).await?;
 
     let l = &mission.limits;
+    let commanded = mission.commanded_limits();
     let (commands, inbox) = command::channel();
     let mut drones: Vec<DroneRun> = routes
         .into_iter()
         .zip(sessions)
-        .zip(flavours)
-        .zip(&placed)
+        .zip(&checked)
         .enumerate()
-        .map(|(i, (((route, session), flavour), placed))| {
-            let follower = Follower::new(l.max_speed_mps, l.max_accel_mps2);
+        .map(|(i, ((route, session), checked))| {
+            let follower = Follower::new(commanded.kinematics(), checked.accel_lead_s);
             let vehicle = drone::Vehicle {
                 session,
-                flavour,
-                placed: *placed,
+                flavour: checked.flavour,
+                placed: checked.placed,
             };
             DroneRun::new(i, route, vehicle, follower, commands.clone())
         })
@@ -104,10 +104,15 @@ pub async fn fly(
     let settings = LoopSettings {
         setpoint_rate_hz: mission.link.setpoint_rate_hz,
         link_timeout_s: mission.link.link_timeout_s,
-        max_speed_mps: l.max_speed_mps,
-        max_accel_mps2: l.max_accel_mps2,
+        limits: commanded.kinematics(),
         tracking_error_m: l.tracking_error_m,
-        settle_tolerance_m: options.settle_tolerance_m,
+        // Starting a run further from its rest point than the tracking error would
+        // hold the setpoint at once.
+        settle_tolerance_m: if l.tracking_error_m > 0.0 {
+            options.settle_tolerance_m.min(l.tracking_error_m)
+        } else {
+            options.settle_tolerance_m
+        },
         execution_timeout_s: options.timeout_factor * planned_makespan_s + 30.0,
         safety_distance_m: l.safety_distance_m,
         // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.

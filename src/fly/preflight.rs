@@ -30,6 +30,9 @@ pub struct PreflightLimits {
     pub position_rate_hz: f64,
 }
 
+/// How often a vehicle found off its pad is looked at again.
+const PLACE_RETRY: Duration = Duration::from_millis(500);
+
 /// Checks one vehicle and places its frame; `Err` is a one-line explanation naming
 /// the drone.
 async fn check_one(
@@ -37,7 +40,7 @@ async fn check_one(
     session: Arc<Session>,
     pad_enu_m: [f64; 3],
     limits: PreflightLimits,
-) -> Result<(Flavour, Placed), String> {
+) -> Result<Checked, String> {
     let flavour = session
         .wait_heartbeat(limits.heartbeat_timeout)
         .await
@@ -46,6 +49,7 @@ async fn check_one(
         .request_rates(limits.position_rate_hz)
         .await
         .map_err(|e| format!("{id}: cannot set telemetry rates: {e}"))?;
+    let ready_deadline = std::time::Instant::now() + limits.ready_timeout;
     wait_ready(&id, &session, limits.ready_timeout).await?;
     let (position, prearm_ok, armed, reason) = {
         let s = session.state();
@@ -67,7 +71,7 @@ async fn check_one(
             reason.map(|r| format!(": {r}")).unwrap_or_default()
         ));
     }
-    let Some(reported_ned_m) = position else {
+    let Some(mut reported_ned_m) = position else {
         return Err(format!("{id}: no position telemetry"));
     };
     let rules = PlacementRules {
@@ -75,9 +79,31 @@ async fn check_one(
         geo_origin: limits.geo_origin,
         tolerance_m: limits.start_tolerance_m,
     };
-    let placed = placement::place(&id, &session, pad_enu_m, reported_ned_m, rules).await?;
-    super::vehicle_limits::apply(&id, &session, flavour, &limits.mission_limits).await?;
-    Ok((flavour, placed))
+    // A fresh estimator is still converging when it first reports ready (PX4 sets
+    // its origin from its first, noisy GPS fix and walks its position in over some
+    // 10 s): a vehicle found off its pad is looked at again until the readiness
+    // deadline before it is refused.
+    let placed = loop {
+        match placement::place(&id, &session, pad_enu_m, reported_ned_m, rules).await {
+            Ok(placed) => break placed,
+            Err(why) if std::time::Instant::now() + PLACE_RETRY >= ready_deadline => {
+                return Err(why);
+            }
+            Err(_) => {
+                tokio::time::sleep(PLACE_RETRY).await;
+                if let Some(p) = session.state().position.map(|p| p.position_ned_m) {
+                    reported_ned_m = p;
+                }
+            }
+        }
+    };
+    let accel_lead_s =
+        super::vehicle_limits::apply(&id, &session, flavour, &limits.mission_limits).await?;
+    Ok(Checked {
+        flavour,
+        placed,
+        accel_lead_s,
+    })
 }
 
 /// Waits until the vehicle reports a position and passing pre-arm checks, as real
@@ -123,6 +149,18 @@ async fn wait_ready(id: &str, session: &Session, within: Duration) -> Result<(),
     }
 }
 
+/// What pre-flight learned of one vehicle.
+#[derive(Debug, Clone, Copy)]
+pub struct Checked {
+    /// Its autopilot family.
+    pub flavour: Flavour,
+    /// Its local frame.
+    pub placed: Placed,
+    /// How far ahead its acceleration feed-forward is sent, seconds
+    /// (see [`super::vehicle_limits::accel_lead_s`]).
+    pub accel_lead_s: f64,
+}
+
 /// Runs every check concurrently and returns each vehicle's flavour and frame, or
 /// every failure.
 pub async fn check_all(
@@ -130,7 +168,7 @@ pub async fn check_all(
     sessions: &[Arc<Session>],
     pads_enu_m: &[[f64; 3]],
     limits: PreflightLimits,
-) -> Result<Vec<(Flavour, Placed)>, FlyError> {
+) -> Result<Vec<Checked>, FlyError> {
     let mut set = JoinSet::new();
     for (i, (id, session)) in ids.iter().zip(sessions).enumerate() {
         let fut = check_one(id.clone(), session.clone(), pads_enu_m[i], limits);

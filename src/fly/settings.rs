@@ -7,10 +7,8 @@ pub struct LoopSettings {
     pub setpoint_rate_hz: f64,
     /// Nothing heard for this long counts as a lost link (the follower pauses), seconds.
     pub link_timeout_s: f64,
-    /// The mission's speed limit, for the PX4 climb profile, metres per second.
-    pub max_speed_mps: f64,
-    /// The mission's acceleration limit, for the PX4 climb profile, m/s².
-    pub max_accel_mps2: f64,
+    /// The mission's speed, acceleration and jerk limits, for the PX4 climb profile.
+    pub limits: crate::profile::Kinematics,
     /// The tracking error the vehicles are trusted to keep, metres: a drone's
     /// setpoint waits while the drone is further from it (0: not enforced).
     pub tracking_error_m: f64,

@@ -11,6 +11,7 @@ pub fn default_limits() -> LimitsSpec {
     LimitsSpec {
         max_speed_mps: 1.0,
         max_accel_mps2: 2.0,
+        max_jerk_mps3: None,
         safety_distance_m: 0.3,
         tracking_error_m: None,
     }

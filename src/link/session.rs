@@ -16,7 +16,8 @@ use super::receive;
 use super::signing::SigningKey;
 use super::telemetry::VehicleState;
 use mavlink::dialects::common::{
-    COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavParamType, MavResult, PARAM_SET_DATA,
+    COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavParamType, MavResult,
+    PARAM_REQUEST_READ_DATA, PARAM_SET_DATA,
 };
 use mavlink::error::MessageReadError;
 use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader};
@@ -297,6 +298,32 @@ impl Session {
                     .get(name)
                     .map_or("nothing".to_string(), |v| v.to_string())
             ),
+            waited_s: self.policy.ack_timeout.as_secs_f64() * f64::from(self.policy.attempts),
+        })
+    }
+
+    /// Reads parameter `name` (PARAM_REQUEST_READ, answered by PARAM_VALUE), retrying
+    /// like a command; a vehicle that never answers (no such parameter) is an error.
+    pub async fn read_param(&self, name: &str) -> Result<f32, LinkError> {
+        self.state().params.remove(name);
+        for _ in 0..self.policy.attempts {
+            self.send(&MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
+                param_index: -1,
+                target_system: self.system_id,
+                target_component: super::messages::AUTOPILOT_COMPONENT_ID,
+                param_id: name.into(),
+            }))
+            .await?;
+            let asked = Instant::now();
+            while asked.elapsed() < self.policy.ack_timeout {
+                if let Some(v) = self.state().params.get(name).copied() {
+                    return Ok(v);
+                }
+                tokio::time::sleep(Duration::from_millis(20)).await;
+            }
+        }
+        Err(LinkError::NotConfirmed {
+            what: format!("parameter {name} (no PARAM_VALUE)"),
             waited_s: self.policy.ack_timeout.as_secs_f64() * f64::from(self.policy.attempts),
         })
     }

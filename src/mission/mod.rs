@@ -15,8 +15,8 @@ pub use load::{from_yaml, load, parse_yaml};
 pub use schema::{Autopilot, Landing, MissionFile, SigningSpec};
 pub use template::TEMPLATE;
 pub use types::{
-    DEFAULT_TRACKING_ERROR_M, Drone, Geodetic, Group, KeySource, Limits, LinkSettings, Mission,
-    PadSource, Stage,
+    DEFAULT_MAX_JERK_MPS3, DEFAULT_TRACKING_ERROR_M, Drone, Geodetic, Group, KeySource, Limits,
+    LinkSettings, Mission, PadSource, Stage,
 };
 pub use validate::{MAX_DIMENSION, MAX_VOXELS, validate};
 pub use write::to_yaml;

@@ -177,6 +177,10 @@ pub struct LimitsSpec {
     pub max_speed_mps: f64,
     /// Top acceleration of every drone, m/s²; the trajectories keep to it.
     pub max_accel_mps2: f64,
+    /// How fast the acceleration may change, m/s³; the trajectories keep to it.
+    /// By default 2.5 m/s³ (see [`super::types::DEFAULT_MAX_JERK_MPS3`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_jerk_mps3: Option<f64>,
     /// Drones never come closer than this, metres (centre to centre).
     pub safety_distance_m: f64,
     /// How far every vehicle is trusted to stay from its setpoint, metres: the
@@ -196,6 +200,23 @@ pub enum Autopilot {
     Px4,
     /// ArduPilot: position targets in guided mode.
     Ardupilot,
+}
+
+impl Autopilot {
+    /// How far above a commanded speed this autopilot's position controller goes
+    /// while following swarmctl's setpoints, as a fraction: the headroom the
+    /// trajectories leave below the mission's speed limit. ArduCopter trails its
+    /// setpoint by some 8 cm at speed and overshoots the commanded speed catching up
+    /// at the end of every acceleration, by 4–6 % on one vehicle and up to 9 % in an
+    /// 8-vehicle swarm (SITL, 1 m/s, 2 m/s², 2.5 m/s³, acceleration led by
+    /// `ATC_INPUT_TC`, 2026-12-02). PX4 (and the bundled simulator's PX4 flavour)
+    /// apply the feed-forward directly: none.
+    pub fn speed_overshoot(self) -> f64 {
+        match self {
+            Autopilot::Px4 => 0.0,
+            Autopilot::Ardupilot => 0.06,
+        }
+    }
 }
 
 impl std::fmt::Display for Autopilot {

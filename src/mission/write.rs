@@ -59,28 +59,7 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
             }
         }
     }
-    let limits = &file.limits;
-    writeln!(out, "limits:")?;
-    writeln!(out, "  max_speed_mps: {:?}", limits.max_speed_mps)?;
-    writeln!(out, "  max_accel_mps2: {:?}", limits.max_accel_mps2)?;
-    writeln!(out, "  safety_distance_m: {:?}", limits.safety_distance_m)?;
-    if let Some(e) = limits.tracking_error_m {
-        writeln!(out, "  tracking_error_m: {e:?}")?;
-    }
-    let link = &file.link;
-    writeln!(out, "link:")?;
-    writeln!(out, "  autopilot: {}", link.autopilot)?;
-    writeln!(out, "  setpoint_rate_hz: {:?}", link.setpoint_rate_hz)?;
-    writeln!(out, "  link_timeout_s: {:?}", link.link_timeout_s)?;
-    if let Some(signing) = &link.signing {
-        writeln!(out, "  signing:")?;
-        if let Some(file) = &signing.key_file {
-            writeln!(out, "    key_file: {}", quoted(&file.to_string_lossy()))?;
-        }
-        if let Some(var) = &signing.key_env {
-            writeln!(out, "    key_env: {}", quoted(var))?;
-        }
-    }
+    write_limits_and_link(out, file)?;
     writeln!(out, "groups:")?;
     for group in &file.groups {
         writeln!(out, "  - name: {}", quoted(&group.name))?;
@@ -131,4 +110,34 @@ fn voxel([x, y, z]: RawVoxel) -> String {
 /// A JSON string literal is a valid YAML double-quoted scalar.
 fn quoted(s: &str) -> String {
     serde_json::Value::from(s).to_string()
+}
+
+/// The `limits` and `link` sections.
+fn write_limits_and_link(out: &mut String, file: &MissionFile) -> std::fmt::Result {
+    let limits = &file.limits;
+    writeln!(out, "limits:")?;
+    writeln!(out, "  max_speed_mps: {:?}", limits.max_speed_mps)?;
+    writeln!(out, "  max_accel_mps2: {:?}", limits.max_accel_mps2)?;
+    if let Some(j) = limits.max_jerk_mps3 {
+        writeln!(out, "  max_jerk_mps3: {j:?}")?;
+    }
+    writeln!(out, "  safety_distance_m: {:?}", limits.safety_distance_m)?;
+    if let Some(e) = limits.tracking_error_m {
+        writeln!(out, "  tracking_error_m: {e:?}")?;
+    }
+    let link = &file.link;
+    writeln!(out, "link:")?;
+    writeln!(out, "  autopilot: {}", link.autopilot)?;
+    writeln!(out, "  setpoint_rate_hz: {:?}", link.setpoint_rate_hz)?;
+    writeln!(out, "  link_timeout_s: {:?}", link.link_timeout_s)?;
+    if let Some(signing) = &link.signing {
+        writeln!(out, "  signing:")?;
+        if let Some(file) = &signing.key_file {
+            writeln!(out, "    key_file: {}", quoted(&file.to_string_lossy()))?;
+        }
+        if let Some(var) = &signing.key_env {
+            writeln!(out, "    key_env: {}", quoted(var))?;
+        }
+    }
+    Ok(())
 }

@@ -99,10 +99,13 @@
 //!
 //! A polyline with corners cannot be flown at speed with bounded acceleration, so the
 //! drone stops at every corner: motion is a sequence of straight rest-to-rest runs, each
-//! a time-optimal trapezoidal (or triangular) speed [`Profile`](crate::profile::Profile).
+//! a time-optimal S-curve speed [`Profile`](crate::profile::Profile) within the speed,
+//! acceleration and jerk limits (the acceleration ramps instead of jumping, so a real
+//! autopilot can follow it). The separation argument below needs only that each run moves
+//! monotonically along its straight line from rest to rest, which every profile does.
 //! Runs also end where the discrete plan waits. Events inside a run are passed at fixed
 //! offsets from the run's start, so the STN's timepoints are run starts, its lower bounds
-//! come from the profiles (speed *and* acceleration), and a drone that must not pass a
+//! come from the profiles (speed, acceleration and jerk), and a drone that must not pass a
 //! marker too early starts its run later rather than stopping in mid-air. The earliest
 //! schedule is a longest path in the DAG of runs, O(V + E).
 

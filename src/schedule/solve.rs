@@ -15,7 +15,7 @@
 use super::ScheduleError;
 use super::stn::Stn;
 use super::tpg::Tpg;
-use crate::profile::Profile;
+use crate::profile::{Kinematics, Profile};
 use serde::{Deserialize, Serialize};
 
 /// One straight rest-to-rest run of one drone.
@@ -81,6 +81,8 @@ pub struct Schedule {
     pub max_speed_mps: f64,
     /// Acceleration limit the runs obey, m/s² (the mission's).
     pub max_accel_mps2: f64,
+    /// Jerk limit the runs obey, m/s³ (the mission's).
+    pub max_jerk_mps3: f64,
     /// Every drone, in plan order.
     pub drones: Vec<DroneSchedule>,
     /// The network that was solved: timepoint 0 is the origin, 1 the end of the mission,
@@ -95,7 +97,7 @@ type Anchor = (u32, f64);
 ///
 /// Fails with [`ScheduleError::CyclicPlan`] if the plan's precedences are cyclic.
 pub fn solve(tpg: &Tpg) -> Result<Schedule, ScheduleError> {
-    let (v, a) = (tpg.max_speed_mps, tpg.max_accel_mps2);
+    let limits = tpg.kinematics();
     let mut rest: Vec<Vec<bool>> = tpg
         .drones
         .iter()
@@ -106,7 +108,7 @@ pub fn solve(tpg: &Tpg) -> Result<Schedule, ScheduleError> {
         constrained[e.to.drone as usize][e.to.index as usize] = true;
     }
     loop {
-        let layout = Layout::new(tpg, &rest, v, a);
+        let layout = Layout::new(tpg, &rest, limits);
         let stn = layout.stn(tpg);
         match stn.topological_order() {
             Ok(order) => return Ok(layout.schedule(tpg, stn, &order, &rest)),
@@ -171,7 +173,7 @@ struct Layout {
 }
 
 impl Layout {
-    fn new(tpg: &Tpg, rest: &[Vec<bool>], v: f64, a: f64) -> Self {
+    fn new(tpg: &Tpg, rest: &[Vec<bool>], limits: Kinematics) -> Self {
         let mut bounds = Vec::with_capacity(tpg.drones.len());
         let mut profiles = Vec::with_capacity(tpg.drones.len());
         let mut base = Vec::with_capacity(tpg.drones.len());
@@ -190,7 +192,7 @@ impl Layout {
                         drone.events[i].distance_m - drone.events[first as usize].distance_m;
                     owner.push((d as u32, b.len() as u32));
                     b.push((first, i as u32));
-                    p.push(Profile::new(length_m, v, a));
+                    p.push(Profile::new(length_m, limits));
                     first = i as u32;
                 }
             }
@@ -374,6 +376,7 @@ impl Layout {
             makespan_s,
             max_speed_mps: tpg.max_speed_mps,
             max_accel_mps2: tpg.max_accel_mps2,
+            max_jerk_mps3: tpg.max_jerk_mps3,
             drones,
             stn,
         }

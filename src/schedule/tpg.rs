@@ -101,6 +101,8 @@ pub struct Tpg {
     pub max_speed_mps: f64,
     /// Acceleration limit the schedule's runs obey, m/s².
     pub max_accel_mps2: f64,
+    /// Jerk limit the schedule's runs obey, m/s³.
+    pub max_jerk_mps3: f64,
     /// Every drone's events, in plan order.
     pub drones: Vec<TpgDrone>,
     /// Type-2 edges, sorted by target event.
@@ -108,6 +110,15 @@ pub struct Tpg {
 }
 
 impl Tpg {
+    /// The speed, acceleration and jerk limits of the schedule's runs.
+    pub fn kinematics(&self) -> crate::profile::Kinematics {
+        crate::profile::Kinematics {
+            max_speed_mps: self.max_speed_mps,
+            max_accel_mps2: self.max_accel_mps2,
+            max_jerk_mps3: self.max_jerk_mps3,
+        }
+    }
+
     /// Number of events over all drones.
     pub fn event_count(&self) -> usize {
         self.drones.iter().map(|d| d.events.len()).sum()
@@ -130,7 +141,7 @@ struct Visit {
 /// Fails with a clear error if the safety distance exceeds the voxel size, if a path is
 /// malformed, or if two drones meet in a voxel or swap along an edge.
 pub fn build(mission: &Mission, plan: &DiscretePlan) -> Result<Tpg, ScheduleError> {
-    build_with(&mission.airspace, &mission.limits, plan)
+    build_with(&mission.airspace, &mission.commanded_limits(), plan)
 }
 
 /// [`build`] from a world and limits rather than a whole mission.
@@ -154,6 +165,7 @@ pub fn build_with(
         ("limits.safety_distance_m", limits.safety_distance_m),
         ("limits.max_speed_mps", limits.max_speed_mps),
         ("limits.max_accel_mps2", limits.max_accel_mps2),
+        ("limits.max_jerk_mps3", limits.max_jerk_mps3),
     ] {
         if !(value.is_finite() && value > 0.0) {
             return Err(ScheduleError::BadLimit { name, value });
@@ -197,6 +209,7 @@ pub fn build_with(
         hold_radius_m: 0.5 * (s + d),
         max_speed_mps: limits.max_speed_mps,
         max_accel_mps2: limits.max_accel_mps2,
+        max_jerk_mps3: limits.max_jerk_mps3,
         drones,
         cross_edges,
     })

@@ -1,6 +1,6 @@
 //! Continuous trajectories from a [`Schedule`]: straight rest-to-rest runs with
-//! trapezoidal speed profiles, so `|v| ≤ max_speed_mps` and `|a| ≤ max_accel_mps2` hold
-//! exactly, the drone stops at every corner, and it passes every TPG event's position
+//! S-curve speed profiles, so `|v| ≤ max_speed_mps`, `|a| ≤ max_accel_mps2` and
+//! `|jerk| ≤ max_jerk_mps3` hold exactly, the drone stops at every corner, and it passes every TPG event's position
 //! exactly at the scheduled time (which is what makes the precedences, and with them
 //! the safety distance, hold in continuous time; see [`schedule`]).
 //!
@@ -22,20 +22,23 @@
 //!     legs: Vec::new(),
 //! };
 //! let timed = swarmctl::trajectory::plan_trajectories(&mission, &plan).unwrap();
-//! // 2 m straight: 1 s accelerating, 1 s cruising, 1 s braking.
-//! assert!((timed.makespan_s - 3.0).abs() < 1e-9);
+//! // 2 m straight at the default jerk limit of 2.5 m/s³: 1.4 s speeding up (0.4 s
+//! // ramping the acceleration up, 0.6 s at 1 m/s², 0.4 s ramping it down), 0.6 s
+//! // cruising, 1.4 s braking.
+//! assert!((timed.makespan_s - 3.4).abs() < 1e-9);
 //! let samples = timed.sample(20.0);
-//! assert_eq!(samples[0].len(), 61);
-//! assert_eq!(samples[0][60], [3.0, 2.0, 0.0, 1.5]);
+//! assert_eq!(samples[0].len(), 69);
+//! let [t_s, x_m, y_m, z_m] = samples[0][68];
+//! assert!((t_s - 3.4).abs() < 1e-9 && (x_m, y_m, z_m) == (2.0, 0.0, 1.5));
 //! // Pad to pad: up 1.5 m from the ground first, down again at the end.
-//! let flight = timed.pad_to_pad(1.0, 1.0);
+//! let flight = timed.pad_to_pad(mission.limits.kinematics());
 //! assert_eq!(flight.drones[0].start_m, [0.0, 0.0, 0.0]);
 //! assert_eq!(flight.drones[0].position_m(1e3), [2.0, 0.0, 0.0]);
 //! ```
 
 /// The speed profile of a run; it lives in [`crate::profile`], below both the
 /// scheduler and this module, and is re-exported here because every run carries one.
-pub use crate::profile::Profile;
+pub use crate::profile::{Kinematics, Profile};
 
 use crate::mission::Mission;
 use crate::plan::DiscretePlan;
@@ -151,12 +154,12 @@ impl Trajectories {
     /// rest-to-rest runs within the limits, inside the column below a pad-layer cell
     /// the drone holds (see the separation argument in [`schedule`]), and are what
     /// the independent checker measures along with the rest.
-    pub fn pad_to_pad(&self, max_speed_mps: f64, max_accel_mps2: f64) -> Trajectories {
+    pub fn pad_to_pad(&self, limits: Kinematics) -> Trajectories {
         let vertical = |from_m: [f64; 3], to_m: [f64; 3], start_s: f64| Run {
             start_s,
             from_m,
             to_m,
-            profile: Profile::new((to_m[2] - from_m[2]).abs(), max_speed_mps, max_accel_mps2),
+            profile: Profile::new((to_m[2] - from_m[2]).abs(), limits),
         };
         let ground = |p: [f64; 3]| [p[0], p[1], 0.0];
         let climb_s = self

@@ -1,5 +1,9 @@
 //! An independent check of sampled trajectories: separation, speed, acceleration,
-//! start and goal at rest.
+//! jerk, start and goal at rest.
+//!
+//! Speed, acceleration and jerk are the first, second and third finite differences of
+//! the samples; each is a weighted mean of the true quantity over its samples' span,
+//! so none can exceed the true maximum: a motion within the limits passes.
 //!
 //! Samples are setpoints, so separation is checked against the setpoint separation
 //! the schedule promises ([`Limits::setpoint_separation_m`]: the safety distance
@@ -37,6 +41,9 @@ pub struct DroneReport {
     pub max_speed_mps: f64,
     /// Highest second-difference acceleration over three consecutive samples, m/s².
     pub max_accel_mps2: f64,
+    /// Highest third-difference jerk over four consecutive samples, m/s³.
+    #[serde(default)]
+    pub max_jerk_mps3: f64,
     /// Speed over the first sample interval, m/s (a drone starting at rest under the
     /// acceleration limit covers at most `a·Δt²/2` there).
     pub start_speed_mps: f64,
@@ -128,7 +135,7 @@ pub enum CheckError {
 ///
 /// ```
 /// use swarmctl::mission::Limits;
-/// let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.5, tracking_error_m: 0.0 };
+/// let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, max_jerk_mps3: 5.0, safety_distance_m: 0.5, tracking_error_m: 0.0 };
 /// let still = |x: f64| (0..5).map(|k| [k as f64 * 0.1, x, 0.0, 0.0]).collect::<Vec<_>>();
 /// let report = swarmctl::verify::check(&[still(0.0), still(0.4)], &limits).unwrap();
 /// assert!((report.min_separation_samples_m - 0.4).abs() < 1e-12);
@@ -209,6 +216,7 @@ fn drone_report(s: &[[f64; 4]], period_s: f64) -> DroneReport {
         return DroneReport {
             max_speed_mps: 0.0,
             max_accel_mps2: 0.0,
+            max_jerk_mps3: 0.0,
             start_speed_mps: 0.0,
             end_speed_mps: 0.0,
         };
@@ -223,9 +231,19 @@ fn drone_report(s: &[[f64; 4]], period_s: f64) -> DroneReport {
             (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt() / (period_s * period_s)
         })
         .fold(0.0, f64::max);
+    let max_jerk_mps3 = s
+        .windows(4)
+        .map(|w| {
+            let j: [f64; 3] = std::array::from_fn(|i| {
+                w[3][i + 1] - 3.0 * w[2][i + 1] + 3.0 * w[1][i + 1] - w[0][i + 1]
+            });
+            (j[0] * j[0] + j[1] * j[1] + j[2] * j[2]).sqrt() / period_s.powi(3)
+        })
+        .fold(0.0, f64::max);
     DroneReport {
         max_speed_mps,
         max_accel_mps2,
+        max_jerk_mps3,
         start_speed_mps: speed(0),
         end_speed_mps: speed(s.len() - 2),
     }
@@ -388,6 +406,13 @@ fn violations(report: &SeparationReport, limits: &Limits, period_s: f64) -> Vec<
             v.push(format!(
                 "drone #{i} accelerates at {:.4} m/s², above the limit {} m/s²",
                 d.max_accel_mps2, limits.max_accel_mps2
+            ));
+        }
+        // Third differences of positions in metres amplify rounding by 8/Δt³: allow it.
+        if d.max_jerk_mps3 > limits.max_jerk_mps3 * (1.0 + 1e-6) + 1e-9 / period_s.powi(3) {
+            v.push(format!(
+                "drone #{i} changes its acceleration at {:.4} m/s³, above the limit {} m/s³",
+                d.max_jerk_mps3, limits.max_jerk_mps3
             ));
         }
         if d.start_speed_mps > rest_speed {

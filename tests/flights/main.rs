@@ -16,5 +16,4 @@ mod fly_signing;
 mod fly_swap;
 mod fuzz_link;
 mod load;
-mod real_ardupilot;
 mod soak;

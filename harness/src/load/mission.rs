@@ -61,6 +61,7 @@ pub fn load_mission(vehicles: usize, seed: u64) -> Result<MissionFile, HarnessEr
         limits: LimitsSpec {
             max_speed_mps: 1.0,
             max_accel_mps2: 2.0,
+            max_jerk_mps3: None,
             safety_distance_m: 0.25,
             tracking_error_m: None,
         },

@@ -220,13 +220,22 @@ impl DroneRun {
         super::path::distance_m(self.velocity_mps, [0.0; 3])
     }
 
-    /// Where telemetry says it would come to rest braking at `max_accel_mps2` from
-    /// its current velocity (its position when at rest), ENU metres.
-    pub fn stopping_point_m(&self, max_accel_mps2: f64) -> Option<[f64; 3]> {
+    /// Where telemetry says it would come to rest braking within `limits` from its
+    /// current velocity (its position when at rest), ENU metres.
+    pub fn stopping_point_m(&self, limits: crate::profile::Kinematics) -> Option<[f64; 3]> {
         let p = self.position_m?;
+        let speed_mps = self.speed_mps();
+        if speed_mps <= 0.0 {
+            return Some(p);
+        }
+        let moving = crate::profile::State {
+            x_m: 0.0,
+            v_mps: speed_mps,
+            a_mps2: 0.0,
+        };
+        let reach_s = crate::profile::Brake::new(moving, limits).stop_m() / speed_mps;
         let v = self.velocity_mps;
-        let reach = self.speed_mps() / (2.0 * max_accel_mps2.max(1e-3));
-        Some(std::array::from_fn(|i| p[i] + v[i] * reach))
+        Some(std::array::from_fn(|i| p[i] + v[i] * reach_s))
     }
 
     /// Nothing heard for the mission's link timeout.

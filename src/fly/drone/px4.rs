@@ -57,21 +57,14 @@ impl DroneRun {
         };
         let start_m = self.route.start_m;
         let height_m = start_m[2] - from_z_m;
-        let profile = Profile::new(
-            height_m.abs(),
-            settings.max_speed_mps,
-            settings.max_accel_mps2,
-        );
+        let profile = Profile::new(height_m.abs(), settings.limits);
         let tau = now.duration_since(t0).as_secs_f64();
         let sign = height_m.signum();
+        let s = profile.state_at(tau);
         self.last_setpoint = Some(Setpoint {
-            position_m: [
-                start_m[0],
-                start_m[1],
-                from_z_m + sign * profile.distance_at_m(tau),
-            ],
-            velocity_mps: [0.0, 0.0, sign * profile.speed_at_mps(tau)],
-            acceleration_mps2: [0.0, 0.0, sign * profile.accel_at_mps2(tau)],
+            position_m: [start_m[0], start_m[1], from_z_m + sign * s.x_m],
+            velocity_mps: [0.0, 0.0, sign * s.v_mps],
+            acceleration_mps2: [0.0, 0.0, sign * s.a_mps2],
         });
         if tau >= profile.duration_s() && self.settled_at(start_m, settings.settle_tolerance_m) {
             self.phase = Phase::AtStart;

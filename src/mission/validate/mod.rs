@@ -19,7 +19,7 @@ mod world;
 
 use super::error::Problem;
 use super::schema::MissionFile;
-use super::types::{Limits, LinkSettings, Mission};
+use super::types::{DEFAULT_MAX_JERK_MPS3, Limits, LinkSettings, Mission};
 use report::Report;
 
 pub use bounds::{MAX_DIMENSION, MAX_VOXELS};
@@ -69,6 +69,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         limits: Limits {
             max_speed_mps: limits.max_speed_mps,
             max_accel_mps2: limits.max_accel_mps2,
+            max_jerk_mps3: limits.max_jerk_mps3.unwrap_or(DEFAULT_MAX_JERK_MPS3),
             safety_distance_m: limits.safety_distance_m,
             tracking_error_m,
         },

@@ -126,7 +126,7 @@ fn check_dimensions(dimensions: [i64; 3], report: &mut Report) -> Option<[u32; 3
     Some(extents)
 }
 
-/// Speed, acceleration and safety distance must all be positive.
+/// Speed, acceleration, jerk and safety distance must all be positive.
 pub(super) fn check_limits(limits: &LimitsSpec, report: &mut Report) {
     check_positive(report, "limits.max_speed_mps", limits.max_speed_mps, "m/s");
     check_positive(
@@ -135,6 +135,9 @@ pub(super) fn check_limits(limits: &LimitsSpec, report: &mut Report) {
         limits.max_accel_mps2,
         "m/s²",
     );
+    if let Some(jerk) = limits.max_jerk_mps3 {
+        check_positive(report, "limits.max_jerk_mps3", jerk, "m/s³");
+    }
     check_positive(
         report,
         "limits.safety_distance_m",

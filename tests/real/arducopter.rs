@@ -1,0 +1,242 @@
+//! ArduCopter SITL (`../shared/sitl/ardupilot`): several instances on loopback,
+//! each booted at its own home on its pad, flown by swarmctl in GUIDED; truth from
+//! `SIM_STATE` on each vehicle's second serial port.
+//!
+//! `SWARMCTL_ARDUCOPTER` overrides where the binary is.
+
+use crate::fleet::{self, Fleet, Process};
+use crate::truth::{Track, TruthSample};
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use swarmctl::fly;
+use swarmctl::link::frames;
+use swarmctl::mission::{Autopilot, Geodetic, Mission};
+
+/// ArduCopter's SITL serial ports: SERIAL0 at 5760 + 10·N, SERIAL1 at 5762 + 10·N.
+const SERIAL0_BASE: u16 = 5760;
+const SERIAL1_BASE: u16 = 5762;
+/// A whole test, boot (about 40 s) to the last touchdown.
+const TEST_LIMIT: Duration = Duration::from_secs(400);
+
+fn arducopter_dir() -> PathBuf {
+    std::env::var_os("SWARMCTL_ARDUCOPTER")
+        .map(PathBuf::from)
+        .and_then(|p| p.parent().map(PathBuf::from))
+        .unwrap_or_else(|| crate::support::repo_root().join("../shared/sitl/ardupilot"))
+}
+
+/// Boots instance `n` (system id n + 1) at `home`.
+fn boot(n: u16, home: &Geodetic) -> Process {
+    let dir = arducopter_dir();
+    let binary = dir.join("arducopter");
+    assert!(
+        binary.is_file(),
+        "ArduCopter SITL not found at {} (set SWARMCTL_ARDUCOPTER)",
+        binary.display()
+    );
+    let work = tempfile::tempdir().expect("working directory");
+    let child = Command::new(&binary)
+        .current_dir(work.path())
+        .args(["--model", "+", "--speedup", "1", "-I", &n.to_string()])
+        .args(["--sysid", &(n + 1).to_string()])
+        .arg("--home")
+        .arg(format!(
+            "{:.9},{:.9},{:.3},0",
+            home.lat_deg, home.lon_deg, home.alt_m
+        ))
+        .arg("--defaults")
+        .arg(dir.join("copter.parm"))
+        .args(["--serial0", "tcp:0"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("ArduCopter starts");
+    Process { child, _dir: work }
+}
+
+/// Reads `SIM_STATE` at 50 Hz from instance `n`'s SERIAL1 until `stop`.
+async fn read_truth(n: u16, track: Track, stop: Instant) {
+    use mavlink::AsyncMavConnection;
+    use mavlink::dialects::common::{COMMAND_LONG_DATA, MavCmd, MavMessage};
+    let address = format!("tcpout:127.0.0.1:{}", SERIAL1_BASE + 10 * n);
+    let connection = loop {
+        match mavlink::connect_async::<MavMessage>(&address).await {
+            Ok(c) => break c,
+            Err(_) if Instant::now() < stop => tokio::time::sleep(Duration::from_secs(1)).await,
+            Err(e) => panic!("no truth link to {address}: {e}"),
+        }
+    };
+    let header = mavlink::MavHeader {
+        system_id: 251,
+        component_id: 190,
+        sequence: 0,
+    };
+    let ask = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        target_system: (n + 1) as u8,
+        target_component: 1,
+        command: MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+        confirmation: 0,
+        param1: 108.0, // SIM_STATE
+        param2: 20_000.0,
+        param3: 0.0,
+        param4: 0.0,
+        param5: 0.0,
+        param6: 0.0,
+        param7: 0.0,
+    });
+    let mut asked_at: Option<Instant> = None;
+    while Instant::now() < stop {
+        if asked_at.is_none_or(|t| t.elapsed() > Duration::from_secs(5)) {
+            let _ = connection.send(&header, &ask).await;
+            asked_at = Some(Instant::now());
+        }
+        let Ok(Ok((_, message))) =
+            tokio::time::timeout(Duration::from_millis(500), connection.recv()).await
+        else {
+            continue;
+        };
+        if let MavMessage::SIM_STATE(s) = message {
+            track.lock().unwrap().push(TruthSample {
+                at: Instant::now(),
+                lat_deg: f64::from(s.lat_int) / 1e7,
+                lon_deg: f64::from(s.lon_int) / 1e7,
+                alt_m: f64::from(s.alt),
+                velocity_ned_mps: [f64::from(s.vn), f64::from(s.ve), f64::from(s.vd)],
+            });
+        }
+    }
+}
+
+/// The mission at `relative` for ArduPilot, drone n on instance n's SERIAL0.
+fn mission(relative: &str) -> (Mission, swarmctl::plan::DiscretePlan) {
+    fleet::mission(relative, Autopilot::Ardupilot, |n| {
+        (
+            format!("tcpout:127.0.0.1:{}", SERIAL0_BASE + 10 * n as u16),
+            n as u8 + 1,
+        )
+    })
+}
+
+/// One instance per drone, each at the home its pad has under the mission's geo
+/// origin, with its truth reader; returns once every instance has opened its ports.
+async fn boot_fleet(mission: &Mission, stop: Instant) -> Fleet {
+    let origin = mission.geo_origin.expect("geo origin");
+    let mut fleet = Fleet {
+        processes: Vec::new(),
+        links: Vec::new(),
+        tracks: Vec::new(),
+    };
+    for (n, (_, d)) in mission.drones().enumerate() {
+        let home = frames::geodetic_at(&origin, mission.pad_ground_m(d));
+        fleet.processes.push(boot(n as u16, &home));
+        let track: Track = Arc::new(Mutex::new(Vec::new()));
+        fleet.tracks.push(track.clone());
+        tokio::spawn(read_truth(n as u16, track, stop));
+        fleet.links.push(fly::VehicleLink {
+            endpoint: d.endpoint.clone().expect("endpoint"),
+            system_id: d.system_id.expect("system id"),
+        });
+    }
+    // The TCP ports open a moment after the processes start (SERIAL2 is probed, so
+    // the ports swarmctl and the truth reader use stay untouched).
+    for n in 0..fleet.processes.len() as u16 {
+        let port = SERIAL1_BASE + 1 + 10 * n;
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+            assert!(
+                Instant::now() < deadline,
+                "instance {n} never opened its ports"
+            );
+            tokio::time::sleep(Duration::from_millis(200)).await;
+        }
+    }
+    fleet
+}
+
+/// Flies the mission at `relative` on one real ArduCopter per drone and checks
+/// every guarantee against telemetry and the simulator's truth.
+async fn fly_and_check(relative: &str) {
+    let name = format!(
+        "arducopter-{}",
+        std::path::Path::new(relative)
+            .file_stem()
+            .unwrap()
+            .to_string_lossy()
+    );
+    let _one = fleet::ONE_AT_A_TIME.lock().await;
+    let started = Instant::now();
+    let (mission, plan) = mission(relative);
+    let fleet = boot_fleet(&mission, started + TEST_LIMIT).await;
+    let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    let log = fleet::fly(&fleet, &mission, &plan, abort_rx, TEST_LIMIT).await;
+    let truth = fleet::report(&name, &mission, &log, &fleet, started);
+    drop(fleet);
+    fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth);
+}
+
+/// The 8-drone formation change on eight real ArduCopter SITL vehicles, each at its
+/// own home: completed, safety held from telemetry and from the simulator's truth,
+/// speed within the limit plus tolerance, every drone at its goal, on time.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn formation_change_on_real_arducopter() {
+    fly_and_check("missions/formation-change.yaml").await;
+}
+
+/// Two drones swap ends of a 0.5 m corridor through a side pocket: the tightest
+/// mission (tracking bound 0.115 m) on real ArduCopters.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn swap_corridor_on_real_arducopter() {
+    fly_and_check("missions/swap-corridor.yaml").await;
+}
+
+/// Ctrl-C in the middle of the formation change on real ArduCopters: every drone
+/// brakes, lands on its own spot, and none descends onto another (truth: no two
+/// closer than the safety distance at any time, touchdowns included).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn ctrl_c_mid_flight_on_real_arducopter_lands_everyone_apart() {
+    let _one = fleet::ONE_AT_A_TIME.lock().await;
+    let started = Instant::now();
+    let (mission, plan) = mission("missions/formation-change.yaml");
+    let fleet = boot_fleet(&mission, started + TEST_LIMIT).await;
+    let (abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    // Ctrl-C once the swarm is well into the plan: 12 s after the last vehicle
+    // has armed and taken off (takeoff and readiness take their own time).
+    let tracks = fleet.tracks.clone();
+    let origin = mission.geo_origin.expect("geo origin");
+    tokio::spawn(async move {
+        let deadline = Instant::now() + TEST_LIMIT;
+        while Instant::now() < deadline {
+            tokio::time::sleep(Duration::from_millis(200)).await;
+            let all_up = tracks.iter().all(|t| {
+                t.lock()
+                    .unwrap()
+                    .last()
+                    .is_some_and(|s| crate::truth::enu_m(&origin, s)[2] > 1.0)
+            });
+            if all_up {
+                tokio::time::sleep(Duration::from_secs(12)).await;
+                let _ = abort_tx.send(true);
+                return;
+            }
+        }
+    });
+    let log = fleet::fly(&fleet, &mission, &plan, abort_rx, TEST_LIMIT).await;
+    let truth = fleet::report("arducopter-abort", &mission, &log, &fleet, started);
+    drop(fleet);
+    let d = mission.limits.safety_distance_m;
+    assert!(!log.summary.completed, "the abort cut the plan short");
+    assert!(
+        truth.min_separation_m >= d,
+        "true separation {:.3} m < {d} m",
+        truth.min_separation_m
+    );
+    for (i, a) in truth.final_enu_m.iter().enumerate() {
+        assert!(a[2] < 0.2, "drone {i} landed (ends {:.2} m up)", a[2]);
+        for b in &truth.final_enu_m[i + 1..] {
+            let apart_m = (a[0] - b[0]).hypot(a[1] - b[1]);
+            assert!(apart_m >= d, "two touchdowns {apart_m:.3} m apart");
+        }
+    }
+}

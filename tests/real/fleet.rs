@@ -1,0 +1,170 @@
+//! A swarm of firmware processes on loopback and what every real-firmware flight
+//! shares: the mission with each drone's endpoint, flying it, and reading the
+//! outcome against the simulators' truth.
+
+use crate::truth::{self, Figures, Track};
+use std::process::Child;
+use std::time::{Duration, Instant};
+use swarmctl::fly::{self, FlightLog};
+use swarmctl::mission::{Autopilot, Mission};
+use swarmctl::plan::{self, DiscretePlan};
+
+/// One firmware process in its own working directory; killed when dropped.
+pub struct Process {
+    pub child: Child,
+    pub _dir: tempfile::TempDir,
+}
+
+impl Drop for Process {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The vehicles of one flight: their processes (stopped when the fleet is
+/// dropped), how swarmctl reaches each, and each one's true track.
+pub struct Fleet {
+    pub processes: Vec<Process>,
+    pub links: Vec<fly::VehicleLink>,
+    pub tracks: Vec<Track>,
+}
+
+/// Only one fleet boots at a time: each is a swarm of firmware processes.
+pub static ONE_AT_A_TIME: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(());
+
+/// The mission at `relative` (under the repository) for `autopilot`, each drone
+/// given the endpoint and system id `endpoint(n)` returns for the n-th drone in
+/// file order; and its plan.
+pub fn mission(
+    relative: &str,
+    autopilot: Autopilot,
+    endpoint: impl Fn(usize) -> (String, u8),
+) -> (Mission, DiscretePlan) {
+    let path = crate::support::repo_path(relative);
+    let written = std::fs::read_to_string(&path).expect("mission");
+    let file = swarmctl::mission::parse_yaml(&written).expect("mission parses");
+    let mut yaml = written.clone();
+    if !yaml.contains("link:") {
+        yaml.push_str("link: { autopilot: px4 }\n");
+    }
+    yaml = yaml.replace("autopilot: px4", &format!("autopilot: {autopilot}"));
+    let ids = file
+        .groups
+        .iter()
+        .flat_map(|g| g.drones.iter().map(|d| d.id.clone()));
+    for (n, id) in ids.enumerate() {
+        let (address, system_id) = endpoint(n);
+        let written = format!("{{ id: {id}, ");
+        assert!(yaml.contains(&written), "{id} in the mission");
+        yaml = yaml.replace(
+            &written,
+            &format!("{{ id: {id}, endpoint: \"{address}\", system_id: {system_id}, "),
+        );
+    }
+    let mission = swarmctl::mission::from_yaml(&yaml, &path).expect("mission valid");
+    let plan = plan::solve(&mission, &plan::PlanOptions::default())
+        .expect("plans")
+        .plan;
+    (mission, plan)
+}
+
+/// Flies `mission` on `fleet`; `abort` turns true to abort as Ctrl-C does.
+pub async fn fly(
+    fleet: &Fleet,
+    mission: &Mission,
+    plan: &DiscretePlan,
+    abort: tokio::sync::watch::Receiver<bool>,
+    limit: Duration,
+) -> FlightLog {
+    let mut options = fly::FlyOptions::new(fleet.links.clone());
+    options.ready_timeout = Duration::from_secs(120);
+    tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort))
+        .await
+        .expect("flight within the test's time limit")
+        .expect("flight starts")
+}
+
+/// Prints the summary, each drone's figures and the truth, keeps the flight log
+/// (`<target tmp>/<name>.json`, for a look after a failure), and returns the truth.
+pub fn report(
+    name: &str,
+    mission: &Mission,
+    log: &FlightLog,
+    fleet: &Fleet,
+    started: Instant,
+) -> Figures {
+    let origin = mission.geo_origin.expect("geo origin");
+    let kept = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}.json"));
+    match serde_json::to_vec(log) {
+        Ok(json) if std::fs::write(&kept, &json).is_ok() => {
+            eprintln!("  flight log kept in {}", kept.display());
+        }
+        _ => eprintln!("  flight log not kept"),
+    }
+    for line in log.summary.lines() {
+        eprintln!("{line}");
+    }
+    for d in &log.drones {
+        eprintln!(
+            "  {} frame {} origin {:?} final {:?} tracking {:?} holds {}",
+            d.id,
+            d.frame,
+            d.local_origin_enu_m,
+            d.final_distance_to_goal_m,
+            d.tracking_error,
+            d.tracking_holds
+        );
+    }
+    let figures = truth::figures(&origin, &fleet.tracks);
+    let ids: Vec<&str> = log.drones.iter().map(|d| d.id.as_str()).collect();
+    eprintln!(
+        "  truth: min separation {:.3} m ({}–{}), top speed {:.2} m/s ({}), {} samples; test {:.0} s",
+        figures.min_separation_m,
+        ids[figures.closest_pair.0],
+        ids[figures.closest_pair.1],
+        figures.top_speed_mps,
+        ids[figures.fastest],
+        figures.samples,
+        started.elapsed().as_secs_f64()
+    );
+    for (id, p) in ids.iter().zip(&figures.final_enu_m) {
+        eprintln!(
+            "  {id} ends at ENU ({:.2}, {:.2}, {:.2}) m (truth)",
+            p[0], p[1], p[2]
+        );
+    }
+    figures
+}
+
+/// The guarantees every completed real-firmware flight must show: frames from GPS,
+/// separation from telemetry and truth, speed, completion, arrival within 0.2 m,
+/// and execution within 1.3× the planned makespan.
+pub fn assert_flight_kept_the_guarantees(mission: &Mission, log: &FlightLog, truth: &Figures) {
+    let s = &log.summary;
+    let limits = &mission.limits;
+    assert!(
+        truth.samples > 100 * log.drones.len(),
+        "truth was read ({} samples)",
+        truth.samples
+    );
+    for d in &log.drones {
+        assert_eq!(d.frame, fly::placement::FrameFix::GpsOrigin, "{}", d.id);
+    }
+    assert!(s.safety_held, "telemetry separation {}", s.min_separation_m);
+    assert!(
+        truth.min_separation_m >= limits.safety_distance_m,
+        "true separation {:.3} m < {} m",
+        truth.min_separation_m,
+        limits.safety_distance_m
+    );
+    assert!(s.speed_held, "telemetry speed {}", s.max_speed_mps);
+    assert!(s.completed, "completed");
+    assert!(s.max_final_distance_to_goal_m <= 0.2, "at the goals");
+    let planned_s = s.planned_makespan_s;
+    let executed_s = s.executed_makespan_s.expect("plan executed");
+    assert!(
+        executed_s <= 1.3 * planned_s,
+        "plan execution {executed_s:.1} s > 1.3 × {planned_s:.1} s planned"
+    );
+}

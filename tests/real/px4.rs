@@ -1,0 +1,194 @@
+//! PX4 SITL with SIH (`../shared/sitl/px4`): several instances on loopback, each
+//! at its own home on its pad (so each has its own local frame), flown by swarmctl
+//! in OFFBOARD; truth from SIH's ground truth, which PX4 streams as
+//! `HIL_STATE_QUATERNION` when asked, read on each instance's GCS link.
+//!
+//! `SWARMCTL_PX4` overrides where the PX4 directory (with `bin/` and `etc/`) is.
+
+use crate::fleet::{self, Fleet, Process};
+use crate::truth::{Track, TruthSample};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use swarmctl::fly;
+use swarmctl::link::frames;
+use swarmctl::mission::{Autopilot, Geodetic, Mission};
+
+/// Instance N's offboard link sends to 14540 + N (swarmctl listens there).
+const OFFBOARD_BASE: u16 = 14540;
+/// Instance N's GCS link listens on 18570 + N.
+const GCS_BASE: u16 = 18570;
+/// A whole test, boot (about 5 s) to the last touchdown.
+const TEST_LIMIT: Duration = Duration::from_secs(300);
+
+fn px4_dir() -> PathBuf {
+    std::env::var_os("SWARMCTL_PX4")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| crate::support::repo_root().join("../shared/sitl/px4"))
+}
+
+/// PX4's startup scripts run its modules as `px4-<module>` commands, links to the
+/// `px4` binary found beside it. The shared copy keeps them as plain files (and may
+/// be read-only), so each flight lays out a `bin/` of real links to the binary.
+fn lay_out_bin(px4: &Path, into: &Path) -> PathBuf {
+    let bin = into.join("bin");
+    std::fs::create_dir_all(&bin).expect("bin directory");
+    std::os::unix::fs::symlink(px4.join("bin/px4"), bin.join("px4")).expect("px4 link");
+    for entry in std::fs::read_dir(px4.join("bin")).expect("PX4 bin/") {
+        let name = entry.expect("entry").file_name();
+        let name = name.to_string_lossy();
+        if name == "px4-alias.sh" {
+            std::fs::copy(px4.join("bin").join(&*name), bin.join(&*name)).expect("alias file");
+        } else if name.starts_with("px4-") {
+            std::os::unix::fs::symlink("px4", bin.join(&*name)).expect("module link");
+        }
+    }
+    bin
+}
+
+/// Boots instance `n` (system id n + 1) at `home`, from the binary links in `bin`.
+fn boot(bin: &Path, n: u16, home: &Geodetic) -> Process {
+    let etc = px4_dir().join("etc");
+    let work = tempfile::tempdir().expect("working directory");
+    let child = Command::new(bin.join("px4"))
+        .env("PX4_SIM_MODEL", "sihsim_quadx")
+        .env("PX4_SIMULATOR", "sihsim")
+        .env("PX4_HOME_LAT", format!("{:.9}", home.lat_deg))
+        .env("PX4_HOME_LON", format!("{:.9}", home.lon_deg))
+        .env("PX4_HOME_ALT", format!("{:.3}", home.alt_m))
+        .arg("-d")
+        .arg(&etc)
+        .args(["-i", &n.to_string(), "-w"])
+        .arg(work.path())
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("PX4 starts");
+    Process { child, _dir: work }
+}
+
+/// Asks instance `n` for `HIL_STATE_QUATERNION` at 50 Hz on its GCS link (PX4
+/// answers the address that asked) and records it until `stop`.
+async fn read_truth(n: u16, track: Track, stop: Instant) {
+    use mavlink::AsyncMavConnection;
+    use mavlink::dialects::common::{COMMAND_LONG_DATA, MavCmd, MavMessage};
+    let address = format!("udpout:127.0.0.1:{}", GCS_BASE + n);
+    let connection = mavlink::connect_async::<MavMessage>(&address)
+        .await
+        .expect("truth link");
+    let header = mavlink::MavHeader {
+        system_id: 251,
+        component_id: 190,
+        sequence: 0,
+    };
+    let ask = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        target_system: (n + 1) as u8,
+        target_component: 1,
+        command: MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+        confirmation: 0,
+        param1: 115.0, // HIL_STATE_QUATERNION
+        param2: 20_000.0,
+        param3: 0.0,
+        param4: 0.0,
+        param5: 0.0,
+        param6: 0.0,
+        param7: 0.0,
+    });
+    let mut asked_at: Option<Instant> = None;
+    while Instant::now() < stop {
+        if asked_at.is_none_or(|t| t.elapsed() > Duration::from_secs(2)) {
+            let _ = connection.send(&header, &ask).await;
+            asked_at = Some(Instant::now());
+        }
+        let Ok(Ok((_, message))) =
+            tokio::time::timeout(Duration::from_millis(500), connection.recv()).await
+        else {
+            continue;
+        };
+        if let MavMessage::HIL_STATE_QUATERNION(s) = message {
+            track.lock().unwrap().push(TruthSample {
+                at: Instant::now(),
+                lat_deg: f64::from(s.lat) / 1e7,
+                lon_deg: f64::from(s.lon) / 1e7,
+                alt_m: f64::from(s.alt) / 1e3,
+                velocity_ned_mps: [s.vx, s.vy, s.vz].map(|c| f64::from(c) / 100.0),
+            });
+        }
+    }
+}
+
+/// The mission at `relative` for PX4, drone n on instance n's offboard link, its
+/// field moved to [`FIELD`].
+fn mission(relative: &str) -> (Mission, swarmctl::plan::DiscretePlan) {
+    let (mut mission, plan) = fleet::mission(relative, Autopilot::Px4, |n| {
+        (
+            format!("udpin:127.0.0.1:{}", OFFBOARD_BASE + n as u16),
+            n as u8 + 1,
+        )
+    });
+    mission.geo_origin = Some(FIELD);
+    (mission, plan)
+}
+
+/// SIH takes its home from float parameters (`SIH_LOC_LAT0`/`LON0`, 32 bits): at
+/// ArduPilot's field (35° S, 149° E) they resolve only 0.4 m of latitude and 1.4 m of
+/// longitude, so vehicles would not stand on their pads. Near 0.5° N 0.5° E they
+/// resolve under a centimetre.
+const FIELD: Geodetic = Geodetic {
+    lat_deg: 0.5,
+    lon_deg: 0.5,
+    alt_m: 100.0,
+};
+
+/// One instance per drone at the home its pad has under the mission's geo origin,
+/// with its truth reader.
+fn boot_fleet(mission: &Mission, bin: &Path, stop: Instant) -> Fleet {
+    let origin = mission.geo_origin.expect("geo origin");
+    let mut fleet = Fleet {
+        processes: Vec::new(),
+        links: Vec::new(),
+        tracks: Vec::new(),
+    };
+    for (n, (_, d)) in mission.drones().enumerate() {
+        assert!(n < 10, "PX4 instances above 9 share one offboard port");
+        let home = frames::geodetic_at(&origin, mission.pad_ground_m(d));
+        fleet.processes.push(boot(bin, n as u16, &home));
+        let track: Track = Arc::new(Mutex::new(Vec::new()));
+        fleet.tracks.push(track.clone());
+        tokio::spawn(read_truth(n as u16, track, stop));
+        fleet.links.push(fly::VehicleLink {
+            endpoint: d.endpoint.clone().expect("endpoint"),
+            system_id: d.system_id.expect("system id"),
+        });
+    }
+    fleet
+}
+
+/// The 8-drone formation change on eight real PX4 SITL (SIH) vehicles in OFFBOARD,
+/// each at its own home: every guarantee, from telemetry and SIH's truth.
+///
+/// Ignored because it fails today, and says so: the frames are placed from GPS (once
+/// the estimators have walked in), but in flight PX4's own estimate of SIH's
+/// horizontal velocity is off by 0.2 m/s typically and 0.4–0.6 m/s at p95, and its
+/// position controller follows it: vehicles hover 0.4 m (median) and up to 1 m (p95)
+/// from their setpoints by truth, so none settles above its pad and the takeoff
+/// times out after 60 s (2026-12-02: telemetry separation 0.361 m, truth 0.534 m,
+/// 1.24 m/s). Run it with
+/// `cargo test -p swarmctl-harness --test real_firmware px4 -- --ignored --nocapture`.
+#[ignore = "fails today: PX4 SIH's estimate wanders ±0.5 m in flight; see the doc comment"]
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn formation_change_on_real_px4() {
+    let _one = fleet::ONE_AT_A_TIME.lock().await;
+    let started = Instant::now();
+    let links = tempfile::tempdir().expect("bin directory");
+    let bin = lay_out_bin(&px4_dir(), links.path());
+    let (mission, plan) = mission("missions/formation-change.yaml");
+    let fleet = boot_fleet(&mission, &bin, started + TEST_LIMIT);
+    let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    let log = fleet::fly(&fleet, &mission, &plan, abort_rx, TEST_LIMIT).await;
+    let truth = fleet::report("px4-formation-change", &mission, &log, &fleet, started);
+    drop(fleet);
+    fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth);
+}
