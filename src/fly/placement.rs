@@ -125,10 +125,20 @@ pub async fn place(
         };
         return Err(format!(
             "{id}: {how} at ENU ({:.2}, {:.2}) m, {off_m:.2} m from its pad at ({:.2}, {:.2}) m — on the wrong pad? (tolerance {:.2} m)",
-            at[0], at[1], pad_enu_m[0], pad_enu_m[1], rules.tolerance_m
+            centimetres(at[0]),
+            centimetres(at[1]),
+            pad_enu_m[0],
+            pad_enu_m[1],
+            rules.tolerance_m
         ));
     }
     Ok(Placed { frame, fix })
+}
+
+/// `x` rounded to the centimetre, without the sign of a rounded-away noise
+/// (a vehicle a millimetre west of its pad is at 0.00, not -0.00).
+fn centimetres(x: f64) -> f64 {
+    (x * 100.0).round() / 100.0 + 0.0
 }
 
 /// Mission ENU position of the vehicle's local origin from its GPS origin, asked

@@ -173,12 +173,6 @@ impl Profile {
         self.state_at(time_s).x_m
     }
 
-    /// Signed acceleration along the run `time_s` after the start: positive speeding
-    /// up, negative braking, zero cruising and outside the run.
-    pub fn accel_at_mps2(&self, time_s: f64) -> f64 {
-        self.state_at(time_s).a_mps2
-    }
-
     /// Speed `time_s` after the start (zero outside the run).
     pub fn speed_at_mps(&self, time_s: f64) -> f64 {
         self.state_at(time_s).v_mps

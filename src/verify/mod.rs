@@ -83,12 +83,15 @@ pub struct SeparationReport {
     pub max_speed_mps: f64,
     /// Highest acceleration of any drone, m/s².
     pub max_accel_mps2: f64,
+    /// Highest jerk of any drone, m/s³.
+    #[serde(default)]
+    pub max_jerk_mps3: f64,
     /// Human-readable violations; empty means every limit holds.
     pub violations: Vec<String>,
 }
 
 impl SeparationReport {
-    /// True when separation, speed, acceleration and rest at both ends all hold.
+    /// True when separation, speed, acceleration, jerk and rest at both ends all hold.
     pub fn ok(&self) -> bool {
         self.violations.is_empty()
     }
@@ -151,6 +154,7 @@ pub fn check(samples: &[Vec<[f64; 4]>], limits: &Limits) -> Result<SeparationRep
     let drones: Vec<DroneReport> = samples.iter().map(|s| drone_report(s, period_s)).collect();
     let max_speed_mps = drones.iter().map(|d| d.max_speed_mps).fold(0.0, f64::max);
     let max_accel_mps2 = drones.iter().map(|d| d.max_accel_mps2).fold(0.0, f64::max);
+    let max_jerk_mps3 = drones.iter().map(|d| d.max_jerk_mps3).fold(0.0, f64::max);
     let search_radius_m = 2.0 * limits.setpoint_separation_m();
     let margin_m = limits.max_accel_mps2 * period_s * period_s / 8.0;
     let sep = separation(samples, &times, search_radius_m, max_speed_mps, margin_m);
@@ -163,6 +167,7 @@ pub fn check(samples: &[Vec<[f64; 4]>], limits: &Limits) -> Result<SeparationRep
         drones,
         max_speed_mps,
         max_accel_mps2,
+        max_jerk_mps3,
         violations: Vec::new(),
     };
     report.violations = violations(&report, limits, period_s);

@@ -62,13 +62,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         compiled.makespan_s, ideal_s
     );
     println!(
-        "  checked         min separation ≥ {:.3} m (safety {:.3} m), max speed {:.3} m/s (limit {}), max accel {:.3} m/s² (limit {})",
+        "  checked         min separation ≥ {:.3} m (safety {:.3} m), max speed {:.3} m/s (limit {}), max accel {:.3} m/s² (limit {}), max jerk {:.2} m/s³ (limit {})",
         c.min_separation_bound_m,
         mission.limits.safety_distance_m,
         c.max_speed_mps,
         mission.limits.max_speed_mps,
         c.max_accel_mps2,
-        mission.limits.max_accel_mps2
+        mission.limits.max_accel_mps2,
+        c.max_jerk_mps3,
+        mission.limits.max_jerk_mps3
     );
     if let Some(path) = &args.output {
         let json = serde_json::to_string(&compiled)?;
