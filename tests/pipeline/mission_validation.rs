@@ -171,6 +171,14 @@ const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
         false,
     ),
     (
+        "negative jerk",
+        "max_accel_mps2: 2.0",
+        "max_accel_mps2: 2.0, max_jerk_mps3: -2.5",
+        "limits.max_jerk_mps3",
+        "positive",
+        false,
+    ),
+    (
         "negative safety distance",
         "safety_distance_m: 0.3",
         "safety_distance_m: -1",

@@ -4,15 +4,12 @@
 //!
 //! `SWARMCTL_ARDUCOPTER` overrides where the binary is.
 
-use crate::fleet::{self, Fleet, Process};
-use crate::truth::{self, Track, TruthSample};
+use crate::fleet::{self, Fleet, Process, TruthSource};
+use crate::truth::TruthSample;
 use mavlink::dialects::common::MavMessage;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use swarmctl::fly;
-use swarmctl::link::frames;
 use swarmctl::mission::{Autopilot, Geodetic, Mission};
 
 /// ArduCopter's SITL serial ports: SERIAL0 at 5760 + 10·N, SERIAL1 at 5762 + 10·N.
@@ -84,30 +81,12 @@ fn mission(relative: &str) -> (Mission, swarmctl::plan::DiscretePlan) {
 /// One instance per drone, each at the home its pad has under the mission's geo
 /// origin, with its truth reader; returns once every instance has opened its ports.
 async fn boot_fleet(mission: &Mission, stop: Instant) -> Fleet {
-    let origin = mission.geo_origin.expect("geo origin");
-    let mut fleet = Fleet {
-        processes: Vec::new(),
-        links: Vec::new(),
-        tracks: Vec::new(),
+    let truth = TruthSource {
+        address: |n| format!("tcpout:127.0.0.1:{}", SERIAL1_BASE + 10 * n),
+        message_id: 108, // SIM_STATE
+        sample,
     };
-    for (n, (_, d)) in mission.drones().enumerate() {
-        let home = frames::geodetic_at(&origin, mission.pad_ground_m(d));
-        fleet.processes.push(boot(n as u16, &home));
-        let track: Track = Arc::new(Mutex::new(Vec::new()));
-        fleet.tracks.push(track.clone());
-        tokio::spawn(truth::read(
-            format!("tcpout:127.0.0.1:{}", SERIAL1_BASE + 10 * n as u16),
-            n as u8 + 1,
-            108, // SIM_STATE
-            sample,
-            track,
-            stop,
-        ));
-        fleet.links.push(fly::VehicleLink {
-            endpoint: d.endpoint.clone().expect("endpoint"),
-            system_id: d.system_id.expect("system id"),
-        });
-    }
+    let fleet = Fleet::boot(mission, boot, &truth, stop);
     // The TCP ports open a moment after the processes start (SERIAL2 is probed, so
     // the ports swarmctl and the truth reader use stay untouched).
     for n in 0..fleet.processes.len() as u16 {

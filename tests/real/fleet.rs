@@ -2,11 +2,14 @@
 //! shares: the mission with each drone's endpoint, flying it, and reading the
 //! outcome against the simulators' truth.
 
-use crate::truth::{self, Figures, Track};
+use crate::truth::{self, Figures, Track, TruthSample};
+use mavlink::dialects::common::MavMessage;
 use std::process::Child;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use swarmctl::fly::{self, FlightLog};
-use swarmctl::mission::{Autopilot, Mission};
+use swarmctl::link::frames;
+use swarmctl::mission::{Autopilot, Geodetic, Mission};
 use swarmctl::plan::{self, DiscretePlan};
 
 /// One firmware process in its own working directory; killed when dropped.
@@ -28,6 +31,54 @@ pub struct Fleet {
     pub processes: Vec<Process>,
     pub links: Vec<fly::VehicleLink>,
     pub tracks: Vec<Track>,
+}
+
+/// Where and how one firmware reports its simulator's truth.
+pub struct TruthSource {
+    /// The address of instance n's truth link.
+    pub address: fn(u16) -> String,
+    /// The message carrying it.
+    pub message_id: u32,
+    /// The message as a truth sample (`None` for any other).
+    pub sample: fn(&MavMessage, Instant) -> Option<TruthSample>,
+}
+
+impl Fleet {
+    /// One instance per drone, booted by `boot(n, home)` at the home its pad has
+    /// under the mission's geo origin, with a reader of its truth until `stop`.
+    pub fn boot(
+        mission: &Mission,
+        boot: impl Fn(u16, &Geodetic) -> Process,
+        truth: &TruthSource,
+        stop: Instant,
+    ) -> Self {
+        let origin = mission.geo_origin.expect("geo origin");
+        let mut fleet = Fleet {
+            processes: Vec::new(),
+            links: Vec::new(),
+            tracks: Vec::new(),
+        };
+        for (n, (_, d)) in mission.drones().enumerate() {
+            let n = u16::try_from(n).expect("a few drones");
+            let home = frames::geodetic_at(&origin, mission.pad_ground_m(d));
+            fleet.processes.push(boot(n, &home));
+            let track: Track = Arc::new(Mutex::new(Vec::new()));
+            fleet.tracks.push(track.clone());
+            tokio::spawn(truth::read(
+                (truth.address)(n),
+                d.system_id.expect("system id"),
+                truth.message_id,
+                truth.sample,
+                track,
+                stop,
+            ));
+            fleet.links.push(fly::VehicleLink {
+                endpoint: d.endpoint.clone().expect("endpoint"),
+                system_id: d.system_id.expect("system id"),
+            });
+        }
+        fleet
+    }
 }
 
 /// Only one fleet boots at a time: each is a swarm of firmware processes.
