@@ -106,13 +106,7 @@ pub async fn fly(
         link_timeout_s: mission.link.link_timeout_s,
         limits: commanded.kinematics(),
         tracking_error_m: l.tracking_error_m,
-        // Starting a run further from its rest point than the tracking error would
-        // hold the setpoint at once.
-        settle_tolerance_m: if l.tracking_error_m > 0.0 {
-            options.settle_tolerance_m.min(l.tracking_error_m)
-        } else {
-            options.settle_tolerance_m
-        },
+        settle_tolerance_m: settle_tolerance_m(options.settle_tolerance_m, l.tracking_error_m),
         execution_timeout_s: options.timeout_factor * planned_makespan_s + 30.0,
         safety_distance_m: l.safety_distance_m,
         // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
@@ -189,4 +183,38 @@ async fn connect_all(ids: &[String], options: &FlyOptions) -> Result<Vec<Arc<Ses
         sessions.push(Arc::new(session));
     }
     Ok(sessions)
+}
+
+/// How close telemetry must be to a rest point for the drone to count as there:
+/// the option (10 cm by default), or a third of the tracking bound `e` when that
+/// is larger, but never more than `e` (0: not enforced, the option alone).
+///
+/// Never above `e`: a run started further from its rest point than `e` would hold
+/// its setpoint at once. A third of `e` for missions that trust their vehicles
+/// only loosely: a vehicle that hovers 0.3 m off its setpoint (PX4 SITL's SIH
+/// does) would otherwise never count as arrived at 10 cm, while starting the next
+/// run a third of the bound away still leaves two thirds of it for lag in motion.
+fn settle_tolerance_m(option_m: f64, tracking_error_m: f64) -> f64 {
+    if tracking_error_m > 0.0 {
+        option_m.max(tracking_error_m / 3.0).min(tracking_error_m)
+    } else {
+        option_m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::settle_tolerance_m;
+
+    #[test]
+    fn settle_tolerance_is_the_option_a_third_of_the_bound_or_the_bound() {
+        // Tight bound: never more than the bound.
+        assert!((settle_tolerance_m(0.10, 0.05) - 0.05).abs() < 1e-12);
+        // The formation change's 0.29 m: the option.
+        assert!((settle_tolerance_m(0.10, 0.29) - 0.10).abs() < 1e-12);
+        // A loose, GPS-grade bound: a third of it.
+        assert!((settle_tolerance_m(0.10, 1.2) - 0.4).abs() < 1e-12);
+        // Not enforced: the option alone.
+        assert!((settle_tolerance_m(0.10, 0.0) - 0.10).abs() < 1e-12);
+    }
 }

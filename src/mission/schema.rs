@@ -242,6 +242,12 @@ pub struct LinkSpec {
     /// A vehicle silent for this long counts as lost, seconds (default 3).
     #[serde(default = "default_link_timeout_s")]
     pub link_timeout_s: f64,
+    /// How far above a commanded speed the vehicles go, as a fraction (0 to 1):
+    /// trajectories are flown at the speed limit divided by `1 + headroom`, so the
+    /// measured speed keeps the limit. Default: the autopilot's
+    /// ([`Autopilot::speed_overshoot`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed_headroom: Option<f64>,
     /// MAVLink 2 signing: where the swarm's secret key is kept (never the key).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub signing: Option<SigningSpec>,
@@ -267,6 +273,7 @@ impl Default for LinkSpec {
             autopilot: Autopilot::default(),
             setpoint_rate_hz: default_setpoint_rate_hz(),
             link_timeout_s: default_link_timeout_s(),
+            speed_headroom: None,
             signing: None,
         }
     }

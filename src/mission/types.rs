@@ -69,13 +69,13 @@ impl std::fmt::Display for PadSource {
 
 impl Mission {
     /// The limits trajectories are scheduled and flown with: the mission's, with the
-    /// speed lowered by the headroom the autopilot overshoots by
-    /// ([`super::Autopilot::speed_overshoot`]), so the *measured* speed keeps the
-    /// mission's limit. Checks measure against `limits` itself.
+    /// speed lowered by the headroom the vehicles overshoot by
+    /// (`link.speed_headroom`, by default [`super::Autopilot::speed_overshoot`]), so
+    /// the *measured* speed keeps the mission's limit. Checks measure against
+    /// `limits` itself.
     pub fn commanded_limits(&self) -> Limits {
         Limits {
-            max_speed_mps: self.limits.max_speed_mps
-                / (1.0 + self.link.autopilot.speed_overshoot()),
+            max_speed_mps: self.limits.max_speed_mps / (1.0 + self.link.speed_headroom),
             ..self.limits
         }
     }
@@ -172,6 +172,9 @@ pub struct LinkSettings {
     pub setpoint_rate_hz: f64,
     /// A vehicle silent for this long counts as lost, seconds; positive.
     pub link_timeout_s: f64,
+    /// How far above a commanded speed the vehicles go, as a fraction (0 to 1):
+    /// the mission's or the autopilot's ([`Autopilot::speed_overshoot`]).
+    pub speed_headroom: f64,
     /// Where the MAVLink 2 signing key is; `None` flies unsigned.
     pub signing: Option<KeySource>,
 }

@@ -195,6 +195,14 @@ const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
         false,
     ),
     (
+        "speed headroom above one",
+        "setpoint_rate_hz: 20",
+        "setpoint_rate_hz: 20, speed_headroom: 1.5",
+        "link.speed_headroom",
+        "fraction from 0 to 1",
+        false,
+    ),
+    (
         "unknown autopilot",
         "autopilot: px4",
         "autopilot: betaflight",

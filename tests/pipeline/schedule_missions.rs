@@ -135,3 +135,31 @@ fn twenty_paper_scale_missions_pass_the_checker() {
         eprintln!("{name}: makespan {makespan_s:.2} s, lockstep {lockstep_s:.2} s");
     }
 }
+
+/// `link.speed_headroom` slows the schedule and nothing else: the wide formation
+/// change (headroom 1.0) flies at half its speed limit, while the checker still
+/// measures against the limit itself.
+#[test]
+fn speed_headroom_slows_the_schedule_to_the_limit_over_one_plus_headroom() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("missions/formation-change-wide.yaml");
+    let mut mission = mission::load(&path).unwrap();
+    assert!((mission.link.speed_headroom - 1.0).abs() < 1e-12);
+    let p = solve("wide", &mission);
+    let top_mps = |m: &Mission| {
+        let s = schedule::solve(&schedule::build(m, &p).unwrap()).unwrap();
+        let samples = trajectory::from_schedule(&s).sample(m.link.setpoint_rate_hz);
+        let report = verify::check(&samples, &m.limits).unwrap();
+        assert!(report.ok(), "{:?}", report.violations);
+        (report.max_speed_mps, s.makespan_s)
+    };
+    let (slow_mps, slow_s) = top_mps(&mission);
+    mission.link.speed_headroom = 0.0;
+    let (full_mps, full_s) = top_mps(&mission);
+    assert!(
+        slow_mps <= 0.5 * mission.limits.max_speed_mps + 1e-9,
+        "{slow_mps}"
+    );
+    assert!(full_mps > 0.9 * mission.limits.max_speed_mps, "{full_mps}");
+    assert!(slow_s > 1.3 * full_s, "{slow_s} s vs {full_s} s");
+}

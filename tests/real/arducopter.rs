@@ -121,7 +121,7 @@ async fn fly_and_check(relative: &str, max_stretch: f64) {
     let log = fleet::fly(&fleet, &mission, &plan, abort_rx, TEST_LIMIT).await;
     let truth = fleet::report(&name, &mission, &log, &fleet, started);
     drop(fleet);
-    fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth, max_stretch);
+    fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth, 0.2, max_stretch);
 }
 
 /// The 8-drone formation change on eight real ArduCopter SITL vehicles, each at its

@@ -161,6 +161,16 @@ pub(super) fn check_link(link: &LinkSpec, report: &mut Report) -> Option<KeySour
         );
     }
     check_positive(report, "link.link_timeout_s", link.link_timeout_s, "s");
+    if let Some(h) = link.speed_headroom
+        && !(h.is_finite() && (0.0..=1.0).contains(&h))
+    {
+        report.add(
+            "link.speed_headroom",
+            format!(
+                "must be a fraction from 0 to 1 (trajectories fly at the speed limit / (1 + headroom)), got {h}"
+            ),
+        );
+    }
     let spec = link.signing.as_ref()?;
     match (&spec.key_file, &spec.key_env) {
         (Some(file), None) if !file.as_os_str().is_empty() => Some(KeySource::File(file.clone())),
