@@ -16,6 +16,13 @@ pub enum PlanSuite {
     Mapf,
     /// 32×32×8 voxels, 10% obstacles, 500 drones in one anonymous group.
     Anonymous,
+    /// 5×5×2 voxels, 12 obstacles, 16 drones in 4 groups: small and tight, where a
+    /// conflict tree alone explodes (`swarmctl gen --size 5x5x2 --obstacles 12
+    /// --drones 16 --groups 4 --seed S`).
+    Dense,
+    /// The same world with 22 drones: 22 of its 38 free voxels taken, where the
+    /// conflict tree's heavy tail shows today.
+    Crowded,
 }
 
 impl PlanSuite {
@@ -27,6 +34,8 @@ impl PlanSuite {
             PlanSuite::Scale => ([32, 32, 8], 819, 400, 10),
             PlanSuite::Mapf => ([32, 32, 1], 102, 50, 50),
             PlanSuite::Anonymous => ([32, 32, 8], 819, 500, 1),
+            PlanSuite::Dense => ([5, 5, 2], 12, 16, 4),
+            PlanSuite::Crowded => ([5, 5, 2], 12, 22, 4),
         };
         GenerateOptions {
             dimensions,
@@ -61,13 +70,15 @@ pub struct PlanSuiteReport {
     pub ct_nodes: Vec<u64>,
 }
 
-/// Plans seeds `1..=seeds` of `suite`, each within `deadline`; every plan is validated.
-/// `on_instance` hears each seed as it finishes: (time s, makespan, lower bound,
-/// conflict-tree nodes), or why it failed.
+/// Plans seeds `1..=seeds` of `suite`, each within `deadline`, handing a conflict
+/// tree to the exact SAT encoding after `exact_after_ct_nodes` nodes (`None`: CBM
+/// alone); every plan is validated. `on_instance` hears each seed as it finishes:
+/// (time s, makespan, lower bound, conflict-tree nodes), or why it failed.
 pub fn run_plan_suite(
     suite: PlanSuite,
     seeds: u64,
     deadline: Duration,
+    exact_after_ct_nodes: Option<u64>,
     mut on_instance: impl FnMut(u64, Result<(f64, u32, u32, u64), String>),
 ) -> PlanSuiteReport {
     let mut report = PlanSuiteReport {
@@ -96,7 +107,12 @@ pub fn run_plan_suite(
             }
         };
         let started = Instant::now();
-        let result = solve(&mission, &PlanOptions { deadline, seed: 0 });
+        let options = PlanOptions {
+            deadline,
+            exact_after_ct_nodes,
+            ..PlanOptions::default()
+        };
+        let result = solve(&mission, &options);
         let time_s = started.elapsed().as_secs_f64();
         match result {
             Ok(solution) => {

@@ -4,9 +4,11 @@
 use super::conflict::{Conflict, first_conflict};
 use super::constraints::Constraints;
 use super::error::PlanError;
+use super::feasibility::impossible_groups;
 use super::low_level::{GroupRouting, LowLevelWork, min_horizon, route};
 use super::network::{GroupCells, Reservation};
 use super::options::PlanOptions;
+use super::sat::{self, SatOutcome, SatWork};
 use super::space::Space;
 use super::stats::{PlanStats, Progress};
 use std::cmp::Reverse;
@@ -26,6 +28,11 @@ struct Node {
 
 /// Best-first order: makespan, then sum of costs, then fewer conflicts, then age.
 type Key = Reverse<(u32, u64, u64, u64)>;
+
+/// Arrangements the impossibility proof may visit at the hand-over (a few tens of
+/// milliseconds): enough for corridors and rings, far too few to waste time on a
+/// large instance.
+const PROOF_BUDGET: u64 = 20_000;
 
 pub(crate) struct Search<'a> {
     pub space: &'a Space,
@@ -98,6 +105,14 @@ impl<'a> Search<'a> {
             self.stats.ct_nodes_expanded += 1;
             if Instant::now() >= self.deadline_at {
                 return Err(self.deadline_error());
+            }
+            // Nearly every instance is solved well inside the default budget (the
+            // formation change in 4 nodes, paper-scale instances in tens), while the
+            // tight ones that explode the tree are small, which the encoding likes.
+            if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes
+                && let Some(found) = self.exact(makespan)?
+            {
+                return Ok(found);
             }
             let elapsed = self.started.elapsed();
             if last_report.elapsed().as_millis() >= 200 {
@@ -210,6 +225,49 @@ impl<'a> Search<'a> {
             sum_of_costs,
             conflicts,
             first,
+        }
+    }
+
+    /// Hands the instance to the exact SAT encoding from the proven lower bound
+    /// `from`: its routing when it finds one, `None` (carry on with the tree, with a
+    /// better bound) when the encoding would be too large.
+    fn exact(&mut self, from: u32) -> Result<Option<Vec<Rc<GroupRouting>>>, PlanError> {
+        if let Some((groups, arrangements)) =
+            impossible_groups(self.space, self.groups, PROOF_BUDGET)
+        {
+            return Err(PlanError::Impossible {
+                who: groups.iter().map(|g| format!("#{g}")).collect(),
+                arrangements,
+            });
+        }
+        let started = Instant::now();
+        let mut work = SatWork::default();
+        let outcome = sat::solve(
+            self.space,
+            self.groups,
+            from,
+            self.max_horizon,
+            self.deadline_at,
+            &mut work,
+        );
+        self.stats.sat_horizons += work.horizons;
+        self.stats.sat_time += started.elapsed();
+        match outcome {
+            SatOutcome::Solved { makespan, routings } => {
+                self.stats.best_lower_bound_steps = makespan;
+                Ok(Some(routings.into_iter().map(Rc::new).collect()))
+            }
+            SatOutcome::NoPlanUpToCap => Err(PlanError::HorizonExceeded(self.max_horizon)),
+            SatOutcome::TooLarge { lower_bound } => {
+                self.stats.best_lower_bound_steps =
+                    self.stats.best_lower_bound_steps.max(lower_bound);
+                Ok(None)
+            }
+            SatOutcome::Deadline { lower_bound } => {
+                self.stats.best_lower_bound_steps =
+                    self.stats.best_lower_bound_steps.max(lower_bound);
+                Err(self.deadline_error())
+            }
         }
     }
 

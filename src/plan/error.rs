@@ -20,12 +20,24 @@ pub enum PlanError {
     },
     /// The named group has a drone or goal outside the free space, or its drones
     /// cannot each reach a different goal.
-    #[error("group {0:?} cannot be matched to distinct reachable goals")]
+    #[error("{0} cannot be matched to distinct reachable goals: some drone or goal is walled off")]
     Unreachable(String),
     /// No plan exists within the given horizon (steps); guards against runaway
     /// memory on instances no search could finish.
     #[error("no plan with a makespan of at most {0} steps")]
     HorizonExceeded(u32),
+    /// No plan exists at any makespan, proven by searching every arrangement the
+    /// named drones or groups can reach (`#i`: the i-th group of a TAPF instance).
+    #[error(
+        "no plan exists: {} cannot get past one another (all {arrangements} arrangements they can reach were searched, and in none is every drone on a goal); give them a passing place",
+        .who.join(" and ")
+    )]
+    Impossible {
+        /// The groups or drones that block each other, by name.
+        who: Vec<String>,
+        /// How many arrangements of them the proof searched.
+        arrangements: u64,
+    },
     /// Every branch of the conflict tree was closed: the instance has no plan.
     #[error("the conflict tree was exhausted without a plan")]
     NoSolution,

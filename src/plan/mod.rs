@@ -2,7 +2,10 @@
 //! each group's goals assigned to its drones, with the least possible makespan.
 //!
 //! [`solve_tapf`] runs CBM: a conflict tree over groups whose low level routes one
-//! group at a time as a flow on a time-expanded network. [`solve`] plans a whole
+//! group at a time as a flow on a time-expanded network. When the tree grows past a
+//! node budget on an instance small enough, the search hands over to an exact SAT
+//! encoding of the whole time-expanded network (`sat`), horizon by horizon from the
+//! tree's proven lower bound: both are makespan-optimal. [`solve`] plans a whole
 //! flight pad to pad as the mission's legs (takeoff, formations, landing), one CBM
 //! instance each, in the mission's airspace. [`validate_plan`] checks any plan
 //! against its mission and shares no code with the solver. Reading a plan file back
@@ -13,6 +16,7 @@ mod conflict;
 mod constraints;
 mod discrete_plan;
 mod error;
+mod feasibility;
 mod low_level;
 mod lower_bound;
 mod matching;
@@ -22,6 +26,7 @@ mod network;
 mod options;
 mod paths;
 mod rotation;
+mod sat;
 mod solve;
 mod space;
 mod stats;

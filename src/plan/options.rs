@@ -9,14 +9,20 @@ pub struct PlanOptions {
     pub deadline: Duration,
     /// Breaks ties between equally good paths; the same seed gives the same plan.
     pub seed: u64,
+    /// Hand a conflict tree that has expanded this many nodes to the exact SAT
+    /// encoding (`None`: never, CBM alone; for comparison). Counted, not timed, so a
+    /// plan does not depend on the machine.
+    pub exact_after_ct_nodes: Option<u64>,
 }
 
 impl Default for PlanOptions {
-    /// A minute of search and seed 0: enough for the bundled missions, deterministic.
+    /// A minute of search, seed 0, the SAT encoding after 256 conflict-tree nodes:
+    /// enough for the bundled missions, deterministic.
     fn default() -> Self {
         Self {
             deadline: Duration::from_secs(60),
             seed: 0,
+            exact_after_ct_nodes: Some(256),
         }
     }
 }

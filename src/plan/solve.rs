@@ -120,7 +120,7 @@ pub fn solve_with_progress(
         let solved = solve_in_space(grid, &space, &tapf, &leg_options, progress).map_err(|e| {
             PlanError::Leg {
                 leg: leg.name.clone(),
-                reason: Box::new(e),
+                reason: Box::new(named(e, mission, &owners)),
             }
         })?;
         for ((gi, di), group_paths) in owners.iter().zip(&solved.paths) {
@@ -170,6 +170,30 @@ pub fn solve_with_progress(
         },
         stats,
     })
+}
+
+/// `e` with the TAPF group indices (`#i`) it names replaced by what the user wrote:
+/// `group blue` for a group's shared targets, `drone b1` for a drone's own.
+fn named(e: PlanError, mission: &Mission, owners: &[(usize, Option<usize>)]) -> PlanError {
+    let name = |tapf: &str| {
+        let owner = tapf
+            .strip_prefix('#')
+            .and_then(|i| i.parse::<usize>().ok())
+            .and_then(|i| owners.get(i));
+        match owner {
+            Some(&(gi, None)) => format!("group {}", mission.groups[gi].name),
+            Some(&(gi, Some(di))) => format!("drone {}", mission.groups[gi].drones[di].id),
+            None => tapf.to_string(),
+        }
+    };
+    match e {
+        PlanError::Impossible { who, arrangements } => PlanError::Impossible {
+            who: who.iter().map(|w| name(w)).collect(),
+            arrangements,
+        },
+        PlanError::Unreachable(who) => PlanError::Unreachable(name(&who)),
+        other => other,
+    }
 }
 
 /// Solves one TAPF instance on `grid`: CBM over `groups`, makespan-optimal.

@@ -18,6 +18,12 @@ pub struct PlanStats {
     pub low_level_calls: u64,
     /// Augmenting paths found by the low level's flow algorithms, summed over calls.
     pub flow_augmentations: u64,
+    /// Horizons the exact SAT encoding decided (0 when the conflict tree finished
+    /// within its node budget).
+    pub sat_horizons: u64,
+    /// Wall time in the SAT encoding and solver (serialised as `sat_time_s`, seconds).
+    #[serde(rename = "sat_time_s", serialize_with = "as_seconds")]
+    pub sat_time: Duration,
     /// Wall time inside the low level (serialised as `low_level_time_s`, seconds).
     #[serde(rename = "low_level_time_s", serialize_with = "as_seconds")]
     pub low_level_time: Duration,
@@ -61,6 +67,8 @@ impl PlanStats {
         self.low_level_calls += leg.low_level_calls;
         self.flow_augmentations += leg.flow_augmentations;
         self.low_level_time += leg.low_level_time;
+        self.sat_horizons += leg.sat_horizons;
+        self.sat_time += leg.sat_time;
         self.legs.push(LegStats {
             name: name.to_string(),
             makespan_steps,

@@ -430,7 +430,7 @@ proptest! {
         // so can a rare, tightly coupled solvable one (CBS is exponential in the
         // conflicts). A deadline is never a wrong answer; anything returned must be exact.
         let deadline = Duration::from_millis(if optimum.is_some() { 5_000 } else { 200 });
-        match plan::solve_tapf(&m.world, &formation(&m), &PlanOptions { seed, deadline }) {
+        match plan::solve_tapf(&m.world, &formation(&m), &PlanOptions { seed, deadline, ..PlanOptions::default() }) {
             Ok(solution) => {
                 prop_assert!(check_tapf(&m, &solution).is_ok(), "{yaml}");
                 prop_assert_eq!(Some(solution.makespan_steps), optimum, "{}", yaml);
@@ -485,4 +485,53 @@ groups:
     );
     // The planner finds the flyable plan instead: one drone steps aside first.
     assert!(planned_makespan(&m, 0) > 1);
+}
+
+/// Impossible instances get a proof, not a search until the deadline: two drones
+/// swapping ends of a corridor with no passing place, and four drones of two groups
+/// in a 2×2 ring that only a rotation could turn. Both are answered long before the
+/// minute's deadline, naming the groups that block each other.
+#[test]
+fn impossible_instances_are_proven_impossible() {
+    let corridor = {
+        let grid = swarmctl::world::VoxelGrid::new([6, 1, 1], 1.0, [0.0; 3]);
+        let v = |x| Voxel::new(x, 0, 0);
+        let groups = [
+            TapfGroup {
+                starts: vec![v(0)],
+                goals: vec![v(5)],
+            },
+            TapfGroup {
+                starts: vec![v(5)],
+                goals: vec![v(0)],
+            },
+        ];
+        (grid, groups.to_vec(), 15)
+    };
+    let ring = {
+        let grid = swarmctl::world::VoxelGrid::new([2, 2, 1], 1.0, [0.0; 3]);
+        let v = |x, y| Voxel::new(x, y, 0);
+        let groups = [
+            TapfGroup {
+                starts: vec![v(0, 0), v(1, 1)],
+                goals: vec![v(1, 0), v(0, 1)],
+            },
+            TapfGroup {
+                starts: vec![v(1, 0), v(0, 1)],
+                goals: vec![v(1, 1), v(0, 0)],
+            },
+        ];
+        (grid, groups.to_vec(), 1)
+    };
+    for (grid, groups, expected) in [corridor, ring] {
+        match plan::solve_tapf(&grid, &groups, &PlanOptions::default()) {
+            Err(PlanError::Impossible { who, arrangements }) => {
+                assert_eq!(who, vec!["#0".to_string(), "#1".to_string()]);
+                assert_eq!(arrangements, expected);
+                let message = PlanError::Impossible { who, arrangements }.to_string();
+                assert!(message.contains("cannot get past one another"), "{message}");
+            }
+            other => panic!("expected a proof of impossibility, got {other:?}"),
+        }
+    }
 }

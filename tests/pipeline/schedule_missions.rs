@@ -17,7 +17,7 @@ use swarmctl::{schedule, trajectory, verify};
 fn solve(name: &str, mission: &Mission) -> DiscretePlan {
     let options = PlanOptions {
         deadline: Duration::from_secs(120),
-        seed: 0,
+        ..PlanOptions::default()
     };
     plan::solve(mission, &options)
         .unwrap_or_else(|e| panic!("{name}: {e}"))

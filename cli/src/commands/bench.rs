@@ -19,6 +19,10 @@ enum SuiteArg {
     Mapf,
     /// 32×32×8 voxels, 10% obstacles, 500 drones in one anonymous group.
     Anonymous,
+    /// 5×5×2 voxels, 12 obstacles, 16 drones in 4 groups: small and tight.
+    Dense,
+    /// 5×5×2 voxels, 12 obstacles, 22 drones in 4 groups: tighter still.
+    Crowded,
 }
 
 impl From<SuiteArg> for PlanSuite {
@@ -28,6 +32,8 @@ impl From<SuiteArg> for PlanSuite {
             SuiteArg::Scale => PlanSuite::Scale,
             SuiteArg::Mapf => PlanSuite::Mapf,
             SuiteArg::Anonymous => PlanSuite::Anonymous,
+            SuiteArg::Dense => PlanSuite::Dense,
+            SuiteArg::Crowded => PlanSuite::Crowded,
         }
     }
 }
@@ -45,6 +51,10 @@ enum Target {
         /// Per-instance deadline in seconds.
         #[arg(long, default_value_t = 10.0)]
         deadline: f64,
+        /// Conflict tree alone, never the exact SAT encoding: the baseline the
+        /// default is compared with.
+        #[arg(long)]
+        cbm_only: bool,
     },
     /// Fly the fault matrix on the bundled SITL and print the results table.
     Faults {
@@ -93,7 +103,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             suite,
             seeds,
             deadline,
-        } => plan(suite.into(), seeds, deadline),
+            cbm_only,
+        } => plan(suite.into(), seeds, deadline, cbm_only),
         Target::Faults {
             mission,
             reduced,
@@ -183,21 +194,40 @@ fn print_legs(legs: &[Vec<(String, u32, u32)>]) {
     }
 }
 
-fn plan(suite: PlanSuite, seeds: u64, deadline: f64) -> anyhow::Result<ExitCode> {
+fn plan(suite: PlanSuite, seeds: u64, deadline: f64, cbm_only: bool) -> anyhow::Result<ExitCode> {
     let deadline = Duration::try_from_secs_f64(deadline)?;
     let o = suite.options(1);
+    let exact_after = if cbm_only {
+        None
+    } else {
+        swarmctl::plan::PlanOptions::default().exact_after_ct_nodes
+    };
     println!(
-        "suite {suite:?}: {}×{}×{} voxels, {} obstacles, {} drones in {} groups, seeds 1..={seeds}, deadline {deadline:?}",
-        o.dimensions[0], o.dimensions[1], o.dimensions[2], o.obstacles, o.drones, o.groups
+        "suite {suite:?}: {}×{}×{} voxels, {} obstacles, {} drones in {} groups, seeds 1..={seeds}, deadline {deadline:?}, {}",
+        o.dimensions[0],
+        o.dimensions[1],
+        o.dimensions[2],
+        o.obstacles,
+        o.drones,
+        o.groups,
+        exact_after.map_or("conflict tree alone".to_string(), |n| format!(
+            "exact SAT encoding after {n} conflict-tree nodes"
+        ))
     );
-    let report = run_plan_suite(suite, seeds, deadline, |seed, result| match result {
-        Ok((time_s, makespan, lb, nodes)) => {
-            println!(
-                "  seed {seed:>3}: {time_s:>8.3} s  makespan {makespan:>3} (lower bound {lb:>3})  {nodes:>6} CT nodes"
-            )
-        }
-        Err(e) => println!("  seed {seed:>3}: FAILED: {e}"),
-    });
+    let report = run_plan_suite(
+        suite,
+        seeds,
+        deadline,
+        exact_after,
+        |seed, result| match result {
+            Ok((time_s, makespan, lb, nodes)) => {
+                println!(
+                    "  seed {seed:>3}: {time_s:>8.3} s  makespan {makespan:>3} (lower bound {lb:>3})  {nodes:>6} CT nodes"
+                )
+            }
+            Err(e) => println!("  seed {seed:>3}: FAILED: {e}"),
+        },
+    );
     let at_bound = report.makespans.iter().filter(|(m, lb)| m == lb).count();
     let excess: u32 = report.makespans.iter().map(|(m, lb)| m - lb).sum();
     println!("solved          {}/{}", report.solved, report.instances);

@@ -40,6 +40,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let options = plan::PlanOptions {
         deadline,
         seed: args.seed,
+        ..plan::PlanOptions::default()
     };
     let solution = solve_with_spinner(&mission, &options)
         .with_context(|| format!("planning {}", input.display()))?;
