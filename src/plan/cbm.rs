@@ -14,7 +14,9 @@ use super::stats::{PlanStats, Progress};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::rc::Rc;
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::ScopedJoinHandle;
+use std::time::{Duration, Instant};
 
 /// A conflict-tree node: every group's constraints and routing.
 struct Node {
@@ -67,6 +69,12 @@ impl<'a> Search<'a> {
     }
 
     /// The conflict-free routing of least makespan, one path list per group.
+    ///
+    /// Past `options.exact_after_ct_nodes` expanded nodes the exact method (an
+    /// impossibility proof, then the SAT encoding from the tree's proven lower bound)
+    /// starts on a second thread while the tree goes on: whichever finishes first
+    /// answers, and the other is stopped. Both are makespan-optimal, so the makespan
+    /// never depends on which; the paths may.
     pub(crate) fn run(
         &mut self,
         progress: &mut dyn FnMut(&Progress),
@@ -76,6 +84,28 @@ impl<'a> Search<'a> {
             self.stats.ct_nodes_expanded = 1;
             return Ok(root.routings);
         }
+        let stop = AtomicBool::new(false);
+        let (space, groups) = (self.space, self.groups);
+        let (max_horizon, deadline_at) = (self.max_horizon, self.deadline_at);
+        std::thread::scope(|scope| {
+            // However the tree ends, the exact method is told to stop before the
+            // scope waits for it.
+            let _stop_on_exit = StopOnDrop(&stop);
+            let stop = &stop;
+            self.tree(root, progress, &|from| {
+                scope.spawn(move || exact(space, groups, from, max_horizon, (deadline_at, stop)))
+            })
+        })
+    }
+
+    /// Best-first search of the conflict tree from `root`; `start_exact(bound)` starts
+    /// the exact method when the node budget is reached.
+    fn tree<'s>(
+        &mut self,
+        root: Node,
+        progress: &mut dyn FnMut(&Progress),
+        start_exact: &dyn Fn(u32) -> ScopedJoinHandle<'s, Exact>,
+    ) -> Result<Vec<Rc<GroupRouting>>, PlanError> {
         let mut open: BinaryHeap<(Key, usize)> = BinaryHeap::new();
         let mut nodes: Vec<Option<Node>> = Vec::new();
         let push =
@@ -94,6 +124,7 @@ impl<'a> Search<'a> {
             };
         push(&mut open, &mut nodes, root);
         let mut last_report = Instant::now();
+        let mut running: Option<ScopedJoinHandle<'s, Exact>> = None;
         while let Some((Reverse((makespan, ..)), id)) = open.pop() {
             let Some(node) = nodes[id].take() else {
                 continue;
@@ -106,13 +137,16 @@ impl<'a> Search<'a> {
             if Instant::now() >= self.deadline_at {
                 return Err(self.deadline_error());
             }
+            if let Some(done) = running.take_if(|h| h.is_finished())
+                && let Some(found) = self.settle(done.join())?
+            {
+                return Ok(found);
+            }
             // Nearly every instance is solved well inside the default budget (the
             // formation change in 4 nodes, paper-scale instances in tens), while the
             // tight ones that explode the tree are small, which the encoding likes.
-            if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes
-                && let Some(found) = self.exact(makespan)?
-            {
-                return Ok(found);
+            if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes {
+                running = Some(start_exact(makespan));
             }
             let elapsed = self.started.elapsed();
             if last_report.elapsed().as_millis() >= 200 {
@@ -228,46 +262,35 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// Hands the instance to the exact SAT encoding from the proven lower bound
-    /// `from`: its routing when it finds one, `None` (carry on with the tree, with a
-    /// better bound) when the encoding would be too large.
-    fn exact(&mut self, from: u32) -> Result<Option<Vec<Rc<GroupRouting>>>, PlanError> {
-        if let Some((groups, arrangements)) =
-            impossible_groups(self.space, self.groups, PROOF_BUDGET)
-        {
+    /// Takes in what the exact method found: its routing, or `None` to let the tree
+    /// go on (the encoding was too large, or it was stopped), with its proven bound.
+    fn settle(
+        &mut self,
+        joined: std::thread::Result<Exact>,
+    ) -> Result<Option<Vec<Rc<GroupRouting>>>, PlanError> {
+        let Ok(done) = joined else {
+            return Err(PlanError::Internal("the exact method's thread panicked"));
+        };
+        self.stats.sat_horizons += done.work.horizons;
+        self.stats.sat_time += done.time;
+        if let Some((groups, arrangements)) = done.impossible {
             return Err(PlanError::Impossible {
                 who: groups.iter().map(|g| format!("#{g}")).collect(),
                 arrangements,
             });
         }
-        let started = Instant::now();
-        let mut work = SatWork::default();
-        let outcome = sat::solve(
-            self.space,
-            self.groups,
-            from,
-            self.max_horizon,
-            self.deadline_at,
-            &mut work,
-        );
-        self.stats.sat_horizons += work.horizons;
-        self.stats.sat_time += started.elapsed();
-        match outcome {
-            SatOutcome::Solved { makespan, routings } => {
+        match done.outcome {
+            Some(SatOutcome::Solved { makespan, routings }) => {
                 self.stats.best_lower_bound_steps = makespan;
                 Ok(Some(routings.into_iter().map(Rc::new).collect()))
             }
-            SatOutcome::NoPlanUpToCap => Err(PlanError::HorizonExceeded(self.max_horizon)),
-            SatOutcome::TooLarge { lower_bound } => {
+            Some(SatOutcome::NoPlanUpToCap) => Err(PlanError::HorizonExceeded(self.max_horizon)),
+            Some(SatOutcome::TooLarge { lower_bound } | SatOutcome::Stopped { lower_bound }) => {
                 self.stats.best_lower_bound_steps =
                     self.stats.best_lower_bound_steps.max(lower_bound);
                 Ok(None)
             }
-            SatOutcome::Deadline { lower_bound } => {
-                self.stats.best_lower_bound_steps =
-                    self.stats.best_lower_bound_steps.max(lower_bound);
-                Err(self.deadline_error())
-            }
+            None => Ok(None),
         }
     }
 
@@ -323,6 +346,55 @@ impl<'a> Search<'a> {
         self.stats.low_level_calls += 1;
         self.stats.flow_augmentations += work.augmentations;
         self.stats.low_level_time += started.elapsed();
+    }
+}
+
+/// What the exact method found on its thread.
+pub(crate) struct Exact {
+    /// The groups proven unable to reach their goals together, and the arrangements
+    /// searched to prove it.
+    impossible: Option<(Vec<usize>, u64)>,
+    /// The SAT encoding's answer, when it ran.
+    outcome: Option<SatOutcome>,
+    work: SatWork,
+    time: Duration,
+}
+
+/// The exact method: first the impossibility proof (a bounded search of every
+/// arrangement), then the SAT encoding horizon by horizon from `from`.
+fn exact(
+    space: &Space,
+    groups: &[GroupCells],
+    from: u32,
+    max_horizon: u32,
+    until: (Instant, &AtomicBool),
+) -> Exact {
+    let started = Instant::now();
+    let mut work = SatWork::default();
+    if let Some(found) = impossible_groups(space, groups, PROOF_BUDGET) {
+        return Exact {
+            impossible: Some(found),
+            outcome: None,
+            work,
+            time: started.elapsed(),
+        };
+    }
+    let outcome = sat::solve(space, groups, from, max_horizon, until, &mut work);
+    Exact {
+        impossible: None,
+        outcome: Some(outcome),
+        work,
+        time: started.elapsed(),
+    }
+}
+
+/// Sets its flag when dropped: the exact method's thread stops on every way out of
+/// the tree search.
+struct StopOnDrop<'s>(&'s AtomicBool);
+
+impl Drop for StopOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
     }
 }
 

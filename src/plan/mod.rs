@@ -3,9 +3,10 @@
 //!
 //! [`solve_tapf`] runs CBM: a conflict tree over groups whose low level routes one
 //! group at a time as a flow on a time-expanded network. When the tree grows past a
-//! node budget on an instance small enough, the search hands over to an exact SAT
-//! encoding of the whole time-expanded network (`sat`), horizon by horizon from the
-//! tree's proven lower bound: both are makespan-optimal. [`solve`] plans a whole
+//! node budget, an exact method starts beside it on a second thread: a bounded proof
+//! of impossibility (`feasibility`), then a SAT encoding of the whole time-expanded
+//! network (`sat`), horizon by horizon from the tree's proven lower bound. The first
+//! to finish answers; both are makespan-optimal. [`solve`] plans a whole
 //! flight pad to pad as the mission's legs (takeoff, formations, landing), one CBM
 //! instance each, in the mission's airspace. [`validate_plan`] checks any plan
 //! against its mission and shares no code with the solver. Reading a plan file back

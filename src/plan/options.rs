@@ -9,9 +9,9 @@ pub struct PlanOptions {
     pub deadline: Duration,
     /// Breaks ties between equally good paths; the same seed gives the same plan.
     pub seed: u64,
-    /// Hand a conflict tree that has expanded this many nodes to the exact SAT
-    /// encoding (`None`: never, CBM alone; for comparison). Counted, not timed, so a
-    /// plan does not depend on the machine.
+    /// Once a conflict tree has expanded this many nodes, start the exact method
+    /// (impossibility proof, then the SAT encoding) beside it on a second thread;
+    /// the first to finish answers (`None`: never, CBM alone; for comparison).
     pub exact_after_ct_nodes: Option<u64>,
 }
 

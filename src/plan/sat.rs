@@ -4,9 +4,10 @@
 //!
 //! CBM ([`super::cbm`]) is fast where groups rarely meet, but on small, tight
 //! instances its conflict tree can explode (hundreds of thousands of nodes) while the
-//! whole instance, every group at once, is a few thousand variables. The search hands
-//! over to this encoding when its tree grows past a node budget (see
-//! [`super::cbm::Search::run`]).
+//! whole instance, every group at once, is a few thousand variables. When the tree
+//! grows past a node budget the search starts this encoding on a second thread and
+//! keeps searching: the first to prove an optimum wins, and the other is stopped
+//! (see [`super::cbm::Search::run`]).
 //!
 //! # The encoding, for a horizon `T`
 //!
@@ -39,10 +40,12 @@ use super::network::GroupCells;
 use super::rotation::{cycles_at, remove_cycles};
 use super::space::{NONE, Space};
 use batsat::{Callbacks, Lit, SolverInterface, SolverOpts, Var, lbool};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-/// Largest encoding tried, in move variables: above it CBM keeps the instance.
-pub(crate) const MAX_MOVE_VARS: usize = 3_000_000;
+/// Largest encoding tried, in move variables: above it CBM keeps the instance alone
+/// (building it is not interruptible, and takes about a second per million).
+pub(crate) const MAX_MOVE_VARS: usize = 1_000_000;
 
 /// How the exact method ended.
 #[derive(Debug)]
@@ -57,8 +60,9 @@ pub(crate) enum SatOutcome {
     /// The encoding at the next horizon would exceed [`MAX_MOVE_VARS`]; every horizon
     /// below it was refuted (a proven lower bound).
     TooLarge { lower_bound: u32 },
-    /// The deadline passed; every horizon below `lower_bound` was refuted.
-    Deadline { lower_bound: u32 },
+    /// Stopped (the deadline passed, or the conflict tree finished first); every
+    /// horizon below `lower_bound` was refuted.
+    Stopped { lower_bound: u32 },
 }
 
 /// What one run did, for the planner's counters.
@@ -70,32 +74,45 @@ pub(crate) struct SatWork {
     pub cycle_cuts: u64,
 }
 
-/// Stops the solver at the deadline.
-struct Until(Instant);
+/// Stops the solver at the deadline or when asked to.
+struct Until<'s> {
+    deadline_at: Instant,
+    stop: &'s AtomicBool,
+}
 
-impl Callbacks for Until {
+impl Callbacks for Until<'_> {
     fn stop(&self) -> bool {
-        Instant::now() >= self.0
+        self.stop.load(Ordering::Relaxed) || Instant::now() >= self.deadline_at
     }
 }
 
-/// Decides horizons `from, from + 1, …, max_horizon` in turn until one has a plan.
+/// Decides horizons `from, from + 1, …, max_horizon` in turn until one has a plan,
+/// the deadline passes or `stop` is set.
 pub(crate) fn solve(
     space: &Space,
     groups: &[GroupCells],
     from: u32,
     max_horizon: u32,
-    deadline_at: Instant,
+    until: (Instant, &AtomicBool),
     work: &mut SatWork,
 ) -> SatOutcome {
+    let until = Until {
+        deadline_at: until.0,
+        stop: until.1,
+    };
     let mut horizon = from;
     while horizon <= max_horizon {
+        if until.stop() {
+            return SatOutcome::Stopped {
+                lower_bound: horizon,
+            };
+        }
         if move_vars_at_most(space, groups, horizon) > MAX_MOVE_VARS {
             return SatOutcome::TooLarge {
                 lower_bound: horizon,
             };
         }
-        match decide(space, groups, horizon, deadline_at, work) {
+        match decide(space, groups, horizon, &until, work) {
             Decision::Plan(routings) => {
                 return SatOutcome::Solved {
                     makespan: horizon,
@@ -104,7 +121,7 @@ pub(crate) fn solve(
             }
             Decision::NoPlan => horizon += 1,
             Decision::Stopped => {
-                return SatOutcome::Deadline {
+                return SatOutcome::Stopped {
                     lower_bound: horizon,
                 };
             }
@@ -150,7 +167,7 @@ struct Encoding<'a> {
     space: &'a Space,
     groups: &'a [GroupCells],
     horizon: u32,
-    solver: batsat::Solver<Until>,
+    solver: batsat::Solver<Until<'a>>,
     /// `present[g][t][c]`: the `x` variable, or `None` where pruned.
     present: Vec<Vec<Vec<Option<Var>>>>,
     moves: Vec<Move>,
@@ -170,9 +187,13 @@ impl<'a> Encoding<'a> {
         space: &'a Space,
         groups: &'a [GroupCells],
         horizon: u32,
-        deadline_at: Instant,
+        until: &Until<'a>,
     ) -> Option<Self> {
-        let solver = batsat::Solver::new(SolverOpts::default(), Until(deadline_at));
+        let until = Until {
+            deadline_at: until.deadline_at,
+            stop: until.stop,
+        };
+        let solver = batsat::Solver::new(SolverOpts::default(), until);
         let mut encoding = Self {
             space,
             groups,
@@ -401,15 +422,15 @@ impl<'a> Encoding<'a> {
     }
 }
 
-/// Decides one horizon: a routing, none, or stopped by the deadline.
-fn decide(
-    space: &Space,
-    groups: &[GroupCells],
+/// Decides one horizon: a routing, none, or stopped.
+fn decide<'a>(
+    space: &'a Space,
+    groups: &'a [GroupCells],
     horizon: u32,
-    deadline_at: Instant,
+    until: &Until<'a>,
     work: &mut SatWork,
 ) -> Decision {
-    let Some(mut encoding) = Encoding::new(space, groups, horizon, deadline_at) else {
+    let Some(mut encoding) = Encoding::new(space, groups, horizon, until) else {
         work.horizons += 1;
         return Decision::NoPlan;
     };
@@ -487,7 +508,8 @@ mod tests {
         ];
         let mut work = SatWork::default();
         let deadline = Instant::now() + Duration::from_secs(10);
-        match solve(&space, &groups, 4, 40, deadline, &mut work) {
+        let stop = AtomicBool::new(false);
+        match solve(&space, &groups, 4, 40, (deadline, &stop), &mut work) {
             SatOutcome::Solved { makespan, routings } => {
                 assert_eq!(makespan, 6, "each drone 4 moves plus a duck in and out");
                 let views: Vec<&[Vec<u32>]> = routings.iter().map(|r| r.paths.as_slice()).collect();
@@ -496,6 +518,33 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert_eq!(work.horizons, 3, "4 and 5 refuted, 6 solved");
+    }
+
+    /// A stop asked for before the first horizon is obeyed at once.
+    #[test]
+    fn a_stopped_search_says_how_far_it_got() {
+        let grid = VoxelGrid::new([3, 1, 1], 1.0, [0.0; 3]);
+        let space = Space::new(&grid, 0);
+        let groups = [cells(
+            &space,
+            &grid,
+            &[Voxel::new(0, 0, 0)],
+            &[Voxel::new(2, 0, 0)],
+        )];
+        let stop = AtomicBool::new(true);
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let outcome = solve(
+            &space,
+            &groups,
+            2,
+            10,
+            (deadline, &stop),
+            &mut SatWork::default(),
+        );
+        assert!(
+            matches!(outcome, SatOutcome::Stopped { lower_bound: 2 }),
+            "{outcome:?}"
+        );
     }
 
     /// Four drones of two groups round a 2×2 ring must not rotate.
@@ -511,7 +560,8 @@ mod tests {
         ];
         let mut work = SatWork::default();
         let deadline = Instant::now() + Duration::from_secs(10);
-        let outcome = solve(&space, &groups, 1, 6, deadline, &mut work);
+        let stop = AtomicBool::new(false);
+        let outcome = solve(&space, &groups, 1, 6, (deadline, &stop), &mut work);
         assert!(matches!(outcome, SatOutcome::NoPlanUpToCap), "{outcome:?}");
         assert!(work.cycle_cuts > 0);
     }

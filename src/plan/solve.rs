@@ -66,8 +66,11 @@ pub fn solve(mission: &Mission, options: &PlanOptions) -> Result<Solution, PlanE
 
 /// Plans `mission` leg by leg in its airspace: takeoff from the pads, each formation,
 /// landing; every leg makespan-optimal with CBM given where the previous one left
-/// the drones. Deterministic for `options.seed`; `progress` is called a few times a
-/// second while a conflict tree grows. The deadline covers all legs together.
+/// the drones. Deterministic for `options.seed`, except that on a leg whose conflict
+/// tree passes `options.exact_after_ct_nodes` the exact method races it and the
+/// first to finish gives the paths (the makespan, optimal either way, never
+/// changes); `progress` is called a few times a second while a conflict tree grows.
+/// The deadline covers all legs together.
 pub fn solve_with_progress(
     mission: &Mission,
     options: &PlanOptions,

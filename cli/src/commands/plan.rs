@@ -151,6 +151,13 @@ fn print_solution(
         "  conflict tree   {} nodes expanded, {} generated; {} flow augmentations",
         s.ct_nodes_expanded, s.ct_nodes_generated, s.flow_augmentations
     );
+    if s.sat_horizons > 0 {
+        println!(
+            "  exact (SAT)     {} horizons decided in {:.3} s, beside the conflict tree",
+            s.sat_horizons,
+            s.sat_time.as_secs_f64()
+        );
+    }
     println!(
         "  time            {:.3} s ({:.3} s low level, {:.3} s high level)",
         s.total_time.as_secs_f64(),
