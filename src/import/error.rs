@@ -6,11 +6,15 @@ use std::path::{Path, PathBuf};
 /// Why an instance file could not be imported.
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
-    /// The instance file (or the map it names) could not be read.
-    #[error("{}: cannot read: {source}", file.display())]
+    /// The instance file (or the map it names) could not be read. The operating
+    /// system's reason is the `source`, not part of this message, so a chain
+    /// printed whole (`{:#}`) says it once.
+    #[error("{}: cannot read{}", file.display(), named_by.as_ref().map(|s| format!(" (the map scenario {} names)", s.display())).unwrap_or_default())]
     Read {
         /// The file as the user (or the scenario) named it.
         file: PathBuf,
+        /// The scenario that named this file, when it is a map one names.
+        named_by: Option<PathBuf>,
         /// Why the operating system refused.
         #[source]
         source: std::io::Error,

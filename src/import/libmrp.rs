@@ -2,7 +2,11 @@
 //!
 //! `map: {dimensions: [W, H], obstacles: [[x, y], …]}` and `agents: [{name, start,
 //! goal}]`, or `potentialGoals: [[x, y], …]` instead of `goal`: agents that share the
-//! same set of potential goals form one group.
+//! same set of potential goals form one group (a team may list more goals than it
+//! has agents: spare goals). Every agent with its own `goal` is its own group, and
+//! no two agents may share one. Sets that overlap without being equal are outside
+//! target assignment (TAPF: teams of interchangeable agents with disjoint goal
+//! sets): refused, naming the agents.
 
 use super::build::{mission_file, world_spec};
 use super::error::ImportError;
@@ -59,6 +63,8 @@ pub fn parse_libmrp(text: &str, file: &Path) -> Result<MissionFile, ImportError>
     let mut groups: Vec<GroupSpec> = Vec::new();
     // The goal set each group was formed from, to find the group of the next agent.
     let mut group_goals: Vec<Vec<[i64; 2]>> = Vec::new();
+    // Whether each group is a team (`potentialGoals`) or one agent with its `goal`.
+    let mut group_is_team: Vec<bool> = Vec::new();
     for agent in instance.agents {
         let drone = DroneSpec {
             id: agent.name.clone(),
@@ -95,20 +101,46 @@ pub fn parse_libmrp(text: &str, file: &Path) -> Result<MissionFile, ImportError>
                 ));
             }
         };
-        match group_goals.iter().position(|g| *g == goals) {
-            Some(i) => groups[i].drones.push(drone),
-            None => {
-                group_goals.push(goals.clone());
-                groups.push(GroupSpec {
-                    name: if goals.len() == 1 {
-                        agent.name.clone()
-                    } else {
-                        format!("group{}", groups.len() + 1)
-                    },
-                    drones: vec![drone],
-                    goals: goals.iter().map(|&[x, y]| [x, y, 0]).collect(),
-                });
-            }
+        let team = agent.goal.is_none();
+        let same = group_goals
+            .iter()
+            .zip(&group_is_team)
+            .position(|(g, &is_team)| team && is_team && *g == goals);
+        if let Some(i) = same {
+            groups[i].drones.push(drone);
+            continue;
+        }
+        if let Some((i, shared)) = group_goals
+            .iter()
+            .enumerate()
+            .find_map(|(i, g)| g.iter().find(|c| goals.contains(c)).map(|&c| (i, c)))
+        {
+            let other = &groups[i].drones[0].id;
+            let message = if !team && !group_is_team[i] {
+                format!(
+                    "agents {other:?} and {:?} share goal {shared:?}: in plain MAPF every agent has a goal of its own (give them a team's `potentialGoals` to let them share)",
+                    agent.name
+                )
+            } else {
+                format!(
+                    "agents {other:?} and {:?} have different goal sets that overlap at {shared:?}: swarmctl plans teams of interchangeable agents (TAPF), so agents with `potentialGoals` must list exactly the same set as their teammates and none of another team's or agent's goals",
+                    agent.name
+                )
+            };
+            return Err(ImportError::format(file, None, message));
+        }
+        {
+            group_is_team.push(team);
+            group_goals.push(goals.clone());
+            groups.push(GroupSpec {
+                name: if team {
+                    format!("team{}", groups.len() + 1)
+                } else {
+                    agent.name.clone()
+                },
+                drones: vec![drone],
+                goals: goals.iter().map(|&[x, y]| [x, y, 0]).collect(),
+            });
         }
     }
     let [w, h] = instance.map.dimensions;

@@ -47,8 +47,19 @@ pub fn detect_format(path: &Path, text: &str) -> Format {
 pub fn load_any(path: &Path, agents: Option<usize>) -> Result<Mission, ImportError> {
     let text = std::fs::read_to_string(path).map_err(|source| ImportError::Read {
         file: path.to_path_buf(),
+        named_by: None,
         source,
     })?;
+    if let Some(ext @ ("map" | "3dmap")) = path.extension().and_then(|e| e.to_str()) {
+        let scenario = if ext == "map" { "scen" } else { "3dscen" };
+        return Err(ImportError::format(
+            path,
+            None,
+            format!(
+                "this is a MovingAI map, not an instance: pass a .{scenario} scenario instead (each of its rows names this map and gives one agent's start and goal)"
+            ),
+        ));
+    }
     let file = match detect_format(path, &text) {
         Format::Mission => return Ok(crate::mission::from_yaml(&text, path)?),
         Format::LibMultiRobotPlanning => parse_libmrp(&text, path)?,

@@ -155,6 +155,7 @@ pub(crate) fn load_scenario(
     let map_path = path.parent().unwrap_or(Path::new(".")).join(&rows[0].map);
     let map_text = std::fs::read_to_string(&map_path).map_err(|source| ImportError::Read {
         file: map_path.clone(),
+        named_by: Some(path.to_path_buf()),
         source,
     })?;
     let map = parse_map(&map_text, &map_path)?;

@@ -106,6 +106,7 @@ pub(crate) fn load_scenario(
     let map_path = path.parent().unwrap_or(Path::new(".")).join(&map_name);
     let map_text = std::fs::read_to_string(&map_path).map_err(|source| ImportError::Read {
         file: map_path.clone(),
+        named_by: Some(path.to_path_buf()),
         source,
     })?;
     let (dims, blocked) = parse_3dmap(&map_text, &map_path)?;

@@ -29,8 +29,10 @@ impl Problem {
 /// Why a mission file could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum MissionError {
-    /// The file could not be read at all (missing, unreadable, not UTF-8).
-    #[error("{}: cannot read: {source}", file.display())]
+    /// The file could not be read at all (missing, unreadable, not UTF-8). The
+    /// operating system's reason is the `source`, not part of this message, so a
+    /// chain printed whole (`{:#}`) says it once.
+    #[error("{}: cannot read", file.display())]
     Read {
         /// The mission file, as the user named it.
         file: PathBuf,

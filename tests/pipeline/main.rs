@@ -8,6 +8,7 @@ mod support;
 
 mod fuzz_plan;
 mod ground_to_ground;
+mod import_inputs;
 mod layering;
 mod mission_validation;
 mod plan_optimality;
