@@ -127,20 +127,14 @@ mod tests {
     use super::*;
     use crate::world::{Voxel, VoxelGrid};
 
-    fn cells(space: &Space, grid: &VoxelGrid, starts: &[Voxel], goals: &[Voxel]) -> GroupCells {
-        let c = |v: &Voxel| space.compact(grid.cell(*v).unwrap_or_default());
-        let goals: Vec<u32> = goals.iter().map(c).collect();
-        GroupCells::new(space, starts.iter().map(c).collect(), &goals)
-    }
-
     #[test]
     fn two_drones_cannot_swap_ends_of_a_corridor_without_a_pocket() {
         let grid = VoxelGrid::new([6, 1, 1], 1.0, [0.0; 3]);
         let space = Space::new(&grid, 0);
         let v = |x| Voxel::new(x, 0, 0);
         let groups = [
-            cells(&space, &grid, &[v(0)], &[v(5)]),
-            cells(&space, &grid, &[v(5)], &[v(0)]),
+            GroupCells::from_voxels(&space, &grid, &[v(0)], &[v(5)]),
+            GroupCells::from_voxels(&space, &grid, &[v(5)], &[v(0)]),
         ];
         let found = impossible_groups(&space, &groups, 100_000);
         assert_eq!(
@@ -159,8 +153,8 @@ mod tests {
         let space = Space::new(&grid, 0);
         let v = |x| Voxel::new(x, 0, 0);
         let groups = [
-            cells(&space, &grid, &[v(0)], &[v(5)]),
-            cells(&space, &grid, &[v(5)], &[v(0)]),
+            GroupCells::from_voxels(&space, &grid, &[v(0)], &[v(5)]),
+            GroupCells::from_voxels(&space, &grid, &[v(5)], &[v(0)]),
         ];
         let both: Vec<&GroupCells> = groups.iter().collect();
         assert_eq!(check(&space, &both, 100_000), Feasibility::Possible);
@@ -172,8 +166,8 @@ mod tests {
         let space = Space::new(&grid, 0);
         let v = |x, y| Voxel::new(x, y, 0);
         let groups = [
-            cells(&space, &grid, &[v(0, 0), v(1, 1)], &[v(1, 0), v(0, 1)]),
-            cells(&space, &grid, &[v(1, 0), v(0, 1)], &[v(1, 1), v(0, 0)]),
+            GroupCells::from_voxels(&space, &grid, &[v(0, 0), v(1, 1)], &[v(1, 0), v(0, 1)]),
+            GroupCells::from_voxels(&space, &grid, &[v(1, 0), v(0, 1)], &[v(1, 1), v(0, 0)]),
         ];
         let found = impossible_groups(&space, &groups, 100_000);
         assert_eq!(found, Some((vec![0, 1], 1)), "no drone can move at all");
@@ -185,8 +179,8 @@ mod tests {
         let space = Space::new(&grid, 0);
         let v = |x, y| Voxel::new(x, y, 0);
         let groups = [
-            cells(&space, &grid, &[v(0, 0), v(1, 0)], &[v(5, 5), v(4, 5)]),
-            cells(&space, &grid, &[v(5, 5), v(4, 5)], &[v(0, 0), v(1, 0)]),
+            GroupCells::from_voxels(&space, &grid, &[v(0, 0), v(1, 0)], &[v(5, 5), v(4, 5)]),
+            GroupCells::from_voxels(&space, &grid, &[v(5, 5), v(4, 5)], &[v(0, 0), v(1, 0)]),
         ];
         let both: Vec<&GroupCells> = groups.iter().collect();
         assert_eq!(check(&space, &both, 10), Feasibility::Unknown);

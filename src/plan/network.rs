@@ -40,6 +40,22 @@ impl GroupCells {
     }
 }
 
+#[cfg(test)]
+impl GroupCells {
+    /// A group from voxels of `grid` (all free), for tests of the solvers.
+    pub(crate) fn from_voxels(
+        space: &Space,
+        grid: &crate::world::VoxelGrid,
+        starts: &[crate::world::Voxel],
+        goals: &[crate::world::Voxel],
+    ) -> Self {
+        let compact =
+            |v: &crate::world::Voxel| space.compact(grid.cell(*v).expect("a voxel of the grid"));
+        let goals: Vec<u32> = goals.iter().map(compact).collect();
+        Self::new(space, starts.iter().map(compact).collect(), &goals)
+    }
+}
+
 /// Where the other groups are, so a group can be steered around them (the costs of
 /// the min-cost flow) without being forbidden anything.
 #[derive(Debug, Clone)]
