@@ -487,9 +487,9 @@ groups:
     assert!(planned_makespan(&m, 0) > 1);
 }
 
-/// Impossible instances get a proof, not a search until the deadline: two drones
-/// swapping ends of a corridor with no passing place, and four drones of two groups
-/// in a 2×2 ring that only a rotation could turn. Both are answered long before the
+/// Impossible instances get a proof, not a search until the deadline: a group walled
+/// off from its goal, two drones swapping ends of a corridor with no passing place,
+/// and four drones of two groups in a 2×2 ring that only a rotation could turn. Both are answered long before the
 /// minute's deadline, naming the groups that block each other.
 #[test]
 fn impossible_instances_are_proven_impossible() {
@@ -523,6 +523,19 @@ fn impossible_instances_are_proven_impossible() {
         ];
         (grid, groups.to_vec(), 1)
     };
+    // The third shape: a group walled off from its goal is refused before any search.
+    let mut walled = swarmctl::world::VoxelGrid::new([5, 1, 1], 1.0, [0.0; 3]);
+    walled.block(Voxel::new(3, 0, 0));
+    let groups = [TapfGroup {
+        starts: vec![Voxel::new(0, 0, 0)],
+        goals: vec![Voxel::new(4, 0, 0)],
+    }];
+    match plan::solve_tapf(&walled, &groups, &PlanOptions::default()) {
+        Err(e @ PlanError::Unreachable(_)) => {
+            assert!(e.to_string().contains("#0 cannot be matched"), "{e}");
+        }
+        other => panic!("expected the walled-off group refused, got {other:?}"),
+    }
     for (grid, groups, expected) in [corridor, ring] {
         match plan::solve_tapf(&grid, &groups, &PlanOptions::default()) {
             Err(PlanError::Impossible { who, arrangements }) => {
