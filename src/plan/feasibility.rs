@@ -162,13 +162,7 @@ mod tests {
 
     #[test]
     fn a_full_ring_cannot_turn() {
-        let grid = VoxelGrid::new([2, 2, 1], 1.0, [0.0; 3]);
-        let space = Space::new(&grid, 0);
-        let v = |x, y| Voxel::new(x, y, 0);
-        let groups = [
-            GroupCells::from_voxels(&space, &grid, &[v(0, 0), v(1, 1)], &[v(1, 0), v(0, 1)]),
-            GroupCells::from_voxels(&space, &grid, &[v(1, 0), v(0, 1)], &[v(1, 1), v(0, 0)]),
-        ];
+        let (space, groups) = GroupCells::full_ring();
         let found = impossible_groups(&space, &groups, 100_000);
         assert_eq!(found, Some((vec![0, 1], 1)), "no drone can move at all");
     }

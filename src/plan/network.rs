@@ -54,6 +54,20 @@ impl GroupCells {
         let goals: Vec<u32> = goals.iter().map(compact).collect();
         Self::new(space, starts.iter().map(compact).collect(), &goals)
     }
+
+    /// A 2×2 ring full of drones, two groups on alternate corners, each asked to
+    /// take the other's corners: only a rotation (or swaps) could do it, so no plan
+    /// exists. Shared by the solvers' tests.
+    pub(crate) fn full_ring() -> (Space, Vec<GroupCells>) {
+        let grid = crate::world::VoxelGrid::new([2, 2, 1], 1.0, [0.0; 3]);
+        let space = Space::new(&grid, 0);
+        let v = |x, y| crate::world::Voxel::new(x, y, 0);
+        let groups = vec![
+            Self::from_voxels(&space, &grid, &[v(0, 0), v(1, 1)], &[v(1, 0), v(0, 1)]),
+            Self::from_voxels(&space, &grid, &[v(1, 0), v(0, 1)], &[v(1, 1), v(0, 0)]),
+        ];
+        (space, groups)
+    }
 }
 
 /// Where the other groups are, so a group can be steered around them (the costs of

@@ -544,14 +544,7 @@ mod tests {
     /// Four drones of two groups round a 2×2 ring must not rotate.
     #[test]
     fn a_full_ring_cannot_rotate() {
-        let grid = VoxelGrid::new([2, 2, 1], 1.0, [0.0; 3]);
-        let space = Space::new(&grid, 0);
-        let v = |x, y| Voxel::new(x, y, 0);
-        // Each drone one step round the ring: only a rotation does it in one step.
-        let groups = [
-            GroupCells::from_voxels(&space, &grid, &[v(0, 0), v(1, 1)], &[v(1, 0), v(0, 1)]),
-            GroupCells::from_voxels(&space, &grid, &[v(1, 0), v(0, 1)], &[v(1, 1), v(0, 0)]),
-        ];
+        let (space, groups) = GroupCells::full_ring();
         let mut work = SatWork::default();
         let deadline = Instant::now() + Duration::from_secs(10);
         let stop = AtomicBool::new(false);
