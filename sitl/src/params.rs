@@ -22,92 +22,47 @@ pub struct Params {
 impl Params {
     /// Defaults for the vehicle's flavour and limits.
     pub fn for_vehicle(config: &VehicleConfig) -> Self {
-        let entries = match config.flavour {
+        let table: Vec<(&'static str, f32)> = match config.flavour {
             Flavour::Px4 => vec![
-                Param {
-                    name: "MIS_TAKEOFF_ALT",
-                    value: px4::DEFAULT_TAKEOFF_ALT_M,
-                },
-                Param {
-                    name: "COM_OF_LOSS_T",
-                    value: 1.0,
-                },
-                Param {
-                    name: "COM_DISARM_LAND",
-                    value: 2.0,
-                },
-                Param {
-                    name: "MPC_XY_VEL_MAX",
-                    value: config.max_speed_mps,
-                },
-                Param {
-                    name: "MPC_ACC_HOR_MAX",
-                    value: config.max_accel_mps2,
-                },
-                Param {
-                    name: "MPC_LAND_SPEED",
-                    value: 0.7,
-                },
-                Param {
-                    name: "MAV_SYS_ID",
-                    value: f32::from(config.system_id),
-                },
+                ("MIS_TAKEOFF_ALT", px4::DEFAULT_TAKEOFF_ALT_M),
+                ("COM_OF_LOSS_T", 1.0),
+                ("COM_DISARM_LAND", 2.0),
+                ("MPC_XY_VEL_MAX", config.max_speed_mps),
+                ("MPC_ACC_HOR_MAX", config.max_accel_mps2),
+                // PX4's defaults. The mock descends at MPC_LAND_SPEED from any
+                // height (PX4 descends at MPC_Z_V_AUTO_DN above MPC_LAND_ALT2, which
+                // mock missions never reach).
+                ("MPC_LAND_SPEED", px4::DEFAULT_LAND_SPEED_MPS),
+                ("MPC_LAND_CRWL", 0.3),
+                ("MPC_Z_V_AUTO_DN", 1.5),
+                ("MPC_Z_V_AUTO_UP", 3.0),
+                ("MPC_Z_VEL_MAX_DN", 1.5),
+                ("MPC_Z_VEL_MAX_UP", 3.0),
+                ("MAV_SYS_ID", f32::from(config.system_id)),
             ],
             Flavour::ArduPilot => vec![
-                Param {
-                    name: "PILOT_TKOFF_ALT",
-                    value: 250.0,
-                },
-                Param {
-                    name: "WPNAV_SPEED",
-                    value: config.max_speed_mps * 100.0,
-                },
-                Param {
-                    name: "WPNAV_ACCEL",
-                    value: config.max_accel_mps2 * 100.0,
-                },
+                ("PILOT_TKOFF_ALT", 250.0),
+                ("WPNAV_SPEED", config.max_speed_mps * 100.0),
+                ("WPNAV_ACCEL", config.max_accel_mps2 * 100.0),
                 // The position controller's jerk limits, m/s³ (ArduCopter's defaults;
                 // flight code sets them, the mock's dynamics do not read them).
-                Param {
-                    name: "PSC_JERK_XY",
-                    value: 5.0,
-                },
-                Param {
-                    name: "PSC_JERK_Z",
-                    value: 5.0,
-                },
+                ("PSC_JERK_XY", 5.0),
+                ("PSC_JERK_Z", 5.0),
                 // The mock has no attitude to tilt: acceleration feed-forward acts at
                 // once, so its attitude input time constant is zero.
-                Param {
-                    name: "ATC_INPUT_TC",
-                    value: 0.0,
-                },
-                Param {
-                    name: "WPNAV_ACCEL_Z",
-                    value: 100.0,
-                },
-                Param {
-                    name: "WPNAV_SPEED_UP",
-                    value: 250.0,
-                },
-                Param {
-                    name: "WPNAV_SPEED_DN",
-                    value: 150.0,
-                },
-                Param {
-                    name: "LAND_SPEED",
-                    value: 70.0,
-                },
-                Param {
-                    name: "FS_GCS_ENABLE",
-                    value: 0.0,
-                },
-                Param {
-                    name: "SYSID_THISMAV",
-                    value: f32::from(config.system_id),
-                },
+                ("ATC_INPUT_TC", 0.0),
+                ("WPNAV_ACCEL_Z", 100.0),
+                ("WPNAV_SPEED_UP", 250.0),
+                ("WPNAV_SPEED_DN", 150.0),
+                ("LAND_SPEED", 70.0),
+                ("FS_GCS_ENABLE", 0.0),
+                ("SYSID_THISMAV", f32::from(config.system_id)),
             ],
         };
+        let entries = table
+            .into_iter()
+            .map(|(name, value)| Param { name, value })
+            .collect();
         Self { entries }
     }
 
@@ -118,6 +73,17 @@ impl Params {
         }
         self.get("PILOT_TKOFF_ALT")
             .map_or(px4::DEFAULT_TAKEOFF_ALT_M, |cm| cm / 100.0)
+    }
+
+    /// Descent speed in LAND and at the end of RTL, m/s: PX4's MPC_LAND_SPEED or
+    /// ArduPilot's LAND_SPEED (cm/s).
+    /// A value that would not descend (zero or less) falls back to PX4's default.
+    pub fn land_speed_mps(&self) -> f32 {
+        let set = self
+            .get("MPC_LAND_SPEED")
+            .or_else(|| self.get("LAND_SPEED").map(|cm| cm / 100.0));
+        set.filter(|v| *v > 0.0)
+            .unwrap_or(px4::DEFAULT_LAND_SPEED_MPS)
     }
 
     /// Value of a parameter by name.
@@ -186,6 +152,6 @@ mod tests {
         assert!(params.set("MIS_TAKEOFF_ALT", f32::NAN).is_none());
         assert!(params.read("", 0).is_some());
         assert!(params.read("", 100).is_none());
-        assert_eq!(params.list().len(), 7);
+        assert_eq!(params.list().len(), 12);
     }
 }

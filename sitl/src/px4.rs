@@ -40,6 +40,9 @@ pub mod auto_sub_mode {
 /// Default of PX4's MIS_TAKEOFF_ALT parameter, metres above home.
 pub const DEFAULT_TAKEOFF_ALT_M: f32 = 2.5;
 
+/// PX4's default landing descent speed (MPC_LAND_SPEED), m/s.
+pub const DEFAULT_LAND_SPEED_MPS: f32 = 0.7;
+
 /// HEARTBEAT custom_mode for a flight mode.
 pub fn custom_mode(mode: FlightMode) -> u32 {
     let (main, sub) = match mode {

@@ -157,6 +157,45 @@ fn px4_arm_takeoff_hold_land_and_auto_disarm() {
     assert!(!v.armed, "PX4 disarms after landing");
 }
 
+/// A controller that lowers the landing speed is obeyed, as by real autopilots:
+/// the fastest descent during LAND is the parameter's, for either flavour's name
+/// and unit.
+#[test]
+fn land_descends_at_the_landing_speed_parameter() {
+    let ardupilot_takeoff = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0];
+    for (flavour, name, value, expected_mps, takeoff) in [
+        (Flavour::Px4, "MPC_LAND_SPEED", 0.4, 0.4, NAN7),
+        (
+            Flavour::ArduPilot,
+            "LAND_SPEED",
+            30.0,
+            0.3,
+            ardupilot_takeoff,
+        ),
+    ] {
+        let mut v = vehicle(flavour, Faults::default());
+        v.params.set(name, value);
+        if flavour == Flavour::ArduPilot {
+            set_mode(&mut v, 4.0, 0.0); // GUIDED: ArduCopter takes off only there
+        }
+        arm(&mut v);
+        command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, takeoff);
+        run(&mut v, 10.0);
+        assert!(v.body.height_m() > 2.0, "{flavour:?} took off");
+        command(&mut v, MavCmd::MAV_CMD_NAV_LAND, NAN7);
+        let mut fastest_mps = 0.0_f32;
+        for _ in 0..(30.0 / DT_S).round() as usize {
+            v.step(DT_S);
+            fastest_mps = fastest_mps.max(v.body.velocity_ned_mps[2]);
+        }
+        assert!(v.landed(), "{flavour:?} landed");
+        assert!(
+            (fastest_mps - expected_mps).abs() < 0.02,
+            "{flavour:?} descended at up to {fastest_mps} m/s, not {expected_mps}"
+        );
+    }
+}
+
 #[test]
 fn px4_takeoff_param7_is_amsl_and_mis_takeoff_alt_is_used() {
     let mut v = vehicle(Flavour::Px4, Faults::default());

@@ -248,6 +248,8 @@ fn param_id() -> impl Strategy<Value = [u8; 16]> {
         "MIS_TAKEOFF_ALT",
         "COM_OF_LOSS_T",
         "MPC_XY_VEL_MAX",
+        "MPC_LAND_SPEED",
+        "LAND_SPEED",
         "MAV_SYS_ID",
         "PILOT_TKOFF_ALT",
         "WPNAV_SPEED",

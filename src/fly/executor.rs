@@ -168,8 +168,19 @@ impl<'a> Flight<'a> {
                 self.aborting = true;
                 self.event(since_arm_s, &why);
             } else if since_arm_s > TAKEOFF_TIMEOUT_S {
+                // Name who kept the swarm waiting, and in which phase.
+                let late: Vec<String> = self
+                    .drones
+                    .iter()
+                    .filter(|d| !matches!(d.phase(), Phase::AtStart))
+                    .map(|d| format!("{} ({})", d.id(), d.phase().name()))
+                    .collect();
+                let why = format!(
+                    "takeoff timed out after {TAKEOFF_TIMEOUT_S:.0} s, not above their pads: {}; holding, then landing",
+                    late.join(", ")
+                );
                 self.aborting = true;
-                self.event(since_arm_s, "takeoff timed out: holding, then landing");
+                self.event(since_arm_s, &why);
             }
             return;
         };

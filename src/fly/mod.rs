@@ -70,6 +70,7 @@ pub async fn fly(
         frames: options.frames,
         geo_origin: mission.geo_origin,
         mission_limits: mission.limits,
+        commanded_limits: mission.commanded_limits(),
         heartbeat_timeout: options.heartbeat_timeout,
         ready_timeout: options.ready_timeout,
         start_tolerance_m: options.start_tolerance_m,

@@ -19,6 +19,9 @@ pub struct PreflightLimits {
     pub geo_origin: Option<Geodetic>,
     /// The mission's limits, set as the autopilot's own (see `vehicle_limits`).
     pub mission_limits: Limits,
+    /// The limits trajectories are flown with (`Mission::commanded_limits`): the
+    /// autopilot's own landing is slowed to their speed.
+    pub commanded_limits: Limits,
     /// How long to wait for each vehicle's first HEARTBEAT.
     pub heartbeat_timeout: Duration,
     /// How long to wait for each vehicle to be ready: position telemetry and pre-arm
@@ -97,8 +100,14 @@ async fn check_one(
             }
         }
     };
-    let accel_lead_s =
-        super::vehicle_limits::apply(&id, &session, flavour, &limits.mission_limits).await?;
+    let accel_lead_s = super::vehicle_limits::apply(
+        &id,
+        &session,
+        flavour,
+        &limits.mission_limits,
+        &limits.commanded_limits,
+    )
+    .await?;
     Ok(Checked {
         flavour,
         placed,

@@ -8,29 +8,69 @@
 //! mission's keeps a lagging vehicle within them too. ArduCopter also shapes every
 //! target with its own jerk limit (`PSC_JERK_XY`, `PSC_JERK_Z`, m/s³): set to the
 //! mission's, the S-curves swarmctl streams are exactly what its shaping can follow,
-//! so its target does not fall behind and overshoot to catch up.
+//! so its target does not fall behind and overshoot to catch up. The autopilot's
+//! own landing is slowed to the commanded speed, never sped up (see [`parameters`]).
 
 use crate::link::{Flavour, Session};
 use crate::mission::Limits;
 
-/// The parameters set, with the value each gets from the limits.
-pub fn parameters(flavour: Flavour, limits: &Limits) -> Vec<(&'static str, f32)> {
+/// What one parameter is set to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Setting {
+    /// Exactly this value.
+    To(f32),
+    /// The vehicle's own value, lowered to this if above it: for the speeds of the
+    /// autopilot's own landing, which an operator may have set slower than the
+    /// mission's limit and which must never be raised to it (a 5 m/s mission must
+    /// not touch down at 5 m/s).
+    AtMost(f32),
+}
+
+/// The parameters set, in the order they are set, with what each gets from the
+/// mission's `limits` and the `commanded` limits trajectories are flown with
+/// (`Mission::commanded_limits`).
+///
+/// The autopilot's own limits are the mission's: they bound how fast a lagging
+/// vehicle may catch up with its setpoints. The speeds of motions the autopilot
+/// plans itself — PX4's LAND descent (`MPC_Z_V_AUTO_DN` above `MPC_LAND_ALT2`,
+/// `MPC_LAND_SPEED` below, `MPC_LAND_CRWL` near the ground) — are the commanded
+/// speed, for the same reason trajectories are: the vehicle overshoots them by its
+/// speed headroom; ArduCopter's `LAND_SPEED` (below `LAND_ALT_LOW`) likewise.
+/// Measured on PX4 SIH at its defaults (1.5 m/s above `MPC_LAND_ALT2`, 0.7 m/s
+/// below): 1.06 m/s during one LAND against a 1 m/s limit. PX4 clamps the landing
+/// speeds to `MPC_Z_VEL_MAX_DN` itself, so they are set before the maxima.
+pub fn parameters(
+    flavour: Flavour,
+    limits: &Limits,
+    commanded: &Limits,
+) -> Vec<(&'static str, Setting)> {
     let v = limits.max_speed_mps as f32;
     let a = limits.max_accel_mps2 as f32;
     let j = limits.max_jerk_mps3 as f32;
+    let v_commanded = commanded.max_speed_mps as f32;
     match flavour {
         // Centimetres per second (squared), ArduCopter's units.
         Flavour::Ardupilot => vec![
-            ("WPNAV_SPEED", 100.0 * v),
-            ("WPNAV_SPEED_UP", 100.0 * v),
-            ("WPNAV_SPEED_DN", 100.0 * v),
-            ("WPNAV_ACCEL", 100.0 * a),
-            ("WPNAV_ACCEL_Z", 100.0 * a),
+            ("WPNAV_SPEED", Setting::To(100.0 * v)),
+            ("WPNAV_SPEED_UP", Setting::To(100.0 * v)),
+            ("WPNAV_SPEED_DN", Setting::To(100.0 * v)),
+            ("WPNAV_ACCEL", Setting::To(100.0 * a)),
+            ("WPNAV_ACCEL_Z", Setting::To(100.0 * a)),
             // Metres per second cubed.
-            ("PSC_JERK_XY", j),
-            ("PSC_JERK_Z", j),
+            ("PSC_JERK_XY", Setting::To(j)),
+            ("PSC_JERK_Z", Setting::To(j)),
+            ("LAND_SPEED", Setting::AtMost(100.0 * v_commanded)),
         ],
-        Flavour::Px4 => vec![("MPC_XY_VEL_MAX", v), ("MPC_ACC_HOR_MAX", a)],
+        Flavour::Px4 => vec![
+            ("MPC_LAND_CRWL", Setting::AtMost(v_commanded)),
+            ("MPC_LAND_SPEED", Setting::AtMost(v_commanded)),
+            ("MPC_Z_V_AUTO_DN", Setting::AtMost(v_commanded)),
+            ("MPC_Z_V_AUTO_UP", Setting::AtMost(v_commanded)),
+            ("MPC_XY_VEL_MAX", Setting::To(v)),
+            ("MPC_Z_VEL_MAX_UP", Setting::To(v)),
+            ("MPC_Z_VEL_MAX_DN", Setting::To(v)),
+            ("MPC_ACC_HOR_MAX", Setting::To(a)),
+        ],
     }
 }
 
@@ -42,12 +82,21 @@ pub async fn apply(
     session: &Session,
     flavour: Flavour,
     limits: &Limits,
+    commanded: &Limits,
 ) -> Result<f64, String> {
-    for (name, value) in parameters(flavour, limits) {
-        session
-            .set_param(name, value)
-            .await
-            .map_err(|e| format!("{id}: cannot set its speed limits: {e}"))?;
+    let refused = |e| format!("{id}: cannot set its speed limits: {e}");
+    for (name, setting) in parameters(flavour, limits, commanded) {
+        let value = match setting {
+            Setting::To(value) => value,
+            Setting::AtMost(most) => {
+                let own = session.read_param(name).await.map_err(refused)?;
+                if own <= most {
+                    continue;
+                }
+                most
+            }
+        };
+        session.set_param(name, value).await.map_err(refused)?;
     }
     accel_lead_s(session, flavour)
         .await
@@ -85,3 +134,49 @@ pub async fn accel_lead_s(
 /// The longest acceleration lead used, seconds (ArduCopter allows `ATC_INPUT_TC` up
 /// to 1 s, far beyond what the lead compensates well).
 pub const MAX_ACCEL_LEAD_S: f64 = 0.3;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limits(max_speed_mps: f64) -> Limits {
+        Limits {
+            max_speed_mps,
+            max_accel_mps2: 2.0,
+            max_jerk_mps3: 5.0,
+            safety_distance_m: 0.4,
+            tracking_error_m: 0.2,
+        }
+    }
+
+    /// The autopilot's own landing is never allowed above the commanded speed, and
+    /// on PX4 it is lowered before the vertical maximum that PX4 clamps it to.
+    #[test]
+    fn landing_speeds_are_capped_at_the_commanded_speed_before_the_maxima() {
+        let (mission, commanded) = (limits(1.0), limits(0.5));
+        for flavour in [Flavour::Px4, Flavour::Ardupilot] {
+            let set = parameters(flavour, &mission, &commanded);
+            let capped: Vec<_> = set
+                .iter()
+                .filter_map(|(name, s)| match s {
+                    Setting::AtMost(v) => Some((*name, *v)),
+                    Setting::To(_) => None,
+                })
+                .collect();
+            assert!(
+                capped.iter().any(|(name, _)| name.contains("LAND_SPEED")),
+                "{flavour:?}: {set:?}"
+            );
+            assert!(capped.iter().all(|&(_, v)| match flavour {
+                Flavour::Px4 => v == 0.5,
+                Flavour::Ardupilot => v == 50.0,
+            }));
+            let position = |wanted: &str| set.iter().position(|(name, _)| *name == wanted);
+            if flavour == Flavour::Px4 {
+                assert!(position("MPC_LAND_SPEED") < position("MPC_Z_VEL_MAX_DN"));
+                assert!(position("MPC_Z_V_AUTO_DN") < position("MPC_Z_VEL_MAX_DN"));
+                assert!(set.contains(&("MPC_Z_VEL_MAX_DN", Setting::To(1.0))));
+            }
+        }
+    }
+}

@@ -10,7 +10,7 @@ use super::network::{GroupCells, Reservation};
 use super::options::PlanOptions;
 use super::sat::{self, SatOutcome, SatWork};
 use super::space::Space;
-use super::stats::{PlanStats, Progress};
+use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::rc::Rc;
@@ -79,7 +79,7 @@ impl<'a> Search<'a> {
         &mut self,
         progress: &mut dyn FnMut(&Progress),
     ) -> Result<Vec<Rc<GroupRouting>>, PlanError> {
-        let root = self.root()?;
+        let root = self.root(progress)?;
         if self.groups.len() == 1 || root.first.is_none() {
             self.stats.ct_nodes_expanded = 1;
             return Ok(root.routings);
@@ -123,7 +123,7 @@ impl<'a> Search<'a> {
                 nodes.push(Some(node));
             };
         push(&mut open, &mut nodes, root);
-        let mut last_report = Instant::now();
+        let mut throttle = Throttle::new();
         let mut running: Option<ScopedJoinHandle<'s, Exact>> = None;
         while let Some((Reverse((makespan, ..)), id)) = open.pop() {
             let Some(node) = nodes[id].take() else {
@@ -148,15 +148,8 @@ impl<'a> Search<'a> {
             if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes {
                 running = Some(start_exact(makespan));
             }
-            let elapsed = self.started.elapsed();
-            if last_report.elapsed().as_millis() >= 200 {
-                last_report = Instant::now();
-                progress(&Progress {
-                    ct_nodes_expanded: self.stats.ct_nodes_expanded,
-                    open_nodes: open.len(),
-                    best_lower_bound_steps: self.stats.best_lower_bound_steps,
-                    elapsed,
-                });
+            if throttle.due() {
+                progress(&self.progress(PlanPhase::ConflictTree, open.len()));
             }
             for (group, constraint) in branches(conflict) {
                 let mut constraints = node.constraints.clone();
@@ -175,18 +168,42 @@ impl<'a> Search<'a> {
         Err(PlanError::NoSolution)
     }
 
-    fn root(&mut self) -> Result<Node, PlanError> {
+    /// Every group routed on its own (its least horizon, then a routing at the
+    /// largest, steering around the groups routed before it), reporting each horizon
+    /// tried: at drone-show scale this is most of the work.
+    fn root(&mut self, progress: &mut dyn FnMut(&Progress)) -> Result<Node, PlanError> {
         let empty = Rc::new(Constraints::default());
-        let mut horizons = Vec::with_capacity(self.groups.len());
+        let groups = self.groups.len();
+        let mut throttle = Throttle::new();
+        let mut horizons = Vec::with_capacity(groups);
+        let (started, bound) = (self.started, self.stats.best_lower_bound_steps);
         for (g, cells) in self.groups.iter().enumerate() {
-            let t = self.min_horizon(cells, &empty, self.lower_bounds[g])?;
+            let mut on_layer = |horizon_steps| {
+                if throttle.due() {
+                    let phase = PlanPhase::Root {
+                        groups_done: g,
+                        groups,
+                        horizon_steps,
+                    };
+                    progress(&snapshot(started, phase, (0, 0), bound));
+                }
+            };
+            let t = self.min_horizon(cells, &empty, self.lower_bounds[g], &mut on_layer)?;
             horizons.push(t);
         }
         let makespan = horizons.iter().copied().max().unwrap_or(0);
         // Route groups in turn, each steering around those already routed.
         let mut reservation = Reservation::new(self.space.len(), makespan);
-        let mut routings = Vec::with_capacity(self.groups.len());
+        let mut routings = Vec::with_capacity(groups);
         for (g, cells) in self.groups.iter().enumerate() {
+            if throttle.due() {
+                let phase = PlanPhase::Root {
+                    groups_done: g,
+                    groups,
+                    horizon_steps: makespan,
+                };
+                progress(&self.progress(phase, 0));
+            }
             let paths = self.route(cells, &empty, makespan, &reservation)?;
             for p in &paths {
                 reservation.add_path(p);
@@ -209,7 +226,7 @@ impl<'a> Search<'a> {
     ) -> Result<Option<Node>, PlanError> {
         let cells = &self.groups[group];
         let previous = parent.routings[group].min_horizon;
-        let horizon = match self.min_horizon(cells, &constraints[group], previous) {
+        let horizon = match self.min_horizon(cells, &constraints[group], previous, &mut |_| {}) {
             Ok(horizon) => horizon,
             Err(PlanError::HorizonExceeded(_)) => return Ok(None),
             Err(other) => return Err(other),
@@ -302,11 +319,23 @@ impl<'a> Search<'a> {
         }
     }
 
+    /// What the search has got to, for a progress report.
+    fn progress(&self, phase: PlanPhase, open_nodes: usize) -> Progress {
+        let nodes = (self.stats.ct_nodes_expanded, open_nodes);
+        snapshot(
+            self.started,
+            phase,
+            nodes,
+            self.stats.best_lower_bound_steps,
+        )
+    }
+
     fn min_horizon(
         &mut self,
         cells: &GroupCells,
         constraints: &Constraints,
         at_least: u32,
+        on_layer: &mut dyn FnMut(u32),
     ) -> Result<u32, PlanError> {
         let started = Instant::now();
         let mut work = LowLevelWork::default();
@@ -314,9 +343,8 @@ impl<'a> Search<'a> {
             self.space,
             cells,
             constraints,
-            at_least,
-            self.max_horizon,
-            self.deadline_at,
+            (at_least, self.max_horizon),
+            (self.deadline_at, on_layer),
             &mut work,
         );
         self.account(started, work);
@@ -346,6 +374,25 @@ impl<'a> Search<'a> {
         self.stats.low_level_calls += 1;
         self.stats.flow_augmentations += work.augmentations;
         self.stats.low_level_time += started.elapsed();
+    }
+}
+
+/// A progress report: the search started at `started`, is in `phase` with
+/// `(expanded, open)` conflict-tree nodes, and has proven the makespan at least
+/// `bound_steps`.
+fn snapshot(
+    started: Instant,
+    phase: PlanPhase,
+    (expanded, open): (u64, usize),
+    bound_steps: u32,
+) -> Progress {
+    Progress {
+        leg: String::new(),
+        phase,
+        ct_nodes_expanded: expanded,
+        open_nodes: open,
+        best_lower_bound_steps: bound_steps,
+        elapsed: started.elapsed(),
     }
 }
 

@@ -24,21 +24,21 @@ pub(crate) struct LowLevelWork {
     pub augmentations: u64,
 }
 
-/// The least horizon at which the group can be routed, never below `at_least`.
+/// The least horizon at which the group can be routed, within `(at_least,
+/// max_horizon)`; `on_layer` hears each horizon tried before `deadline_at`.
 pub(crate) fn min_horizon(
     space: &Space,
     group: &GroupCells,
     constraints: &Constraints,
-    at_least: u32,
-    max_horizon: u32,
-    deadline_at: Instant,
+    (at_least, max_horizon): (u32, u32),
+    (deadline_at, on_layer): (Instant, &mut dyn FnMut(u32)),
     work: &mut LowLevelWork,
 ) -> Option<u32> {
     let from_constraints = constraints
         .latest_goal_step(&group.is_goal)
         .map_or(0, |t| t + 1);
     let mut network = Network::new(space, group, constraints, at_least.max(from_constraints));
-    work.augmentations += grow_until_routed(&mut network, max_horizon, deadline_at)?;
+    work.augmentations += grow_until_routed(&mut network, max_horizon, deadline_at, on_layer)?;
     Some(network.horizon)
 }
 

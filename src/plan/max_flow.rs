@@ -9,16 +9,19 @@ const UNSEEN: u32 = u32::MAX;
 
 /// Grows `network`'s horizon one layer at a time, keeping the flow found so far,
 /// until every drone is routed; `None` if that needs more than `max_horizon` steps
-/// or takes past `deadline_at`. Returns the number of augmenting paths used.
+/// or takes past `deadline_at`; `on_layer` hears each horizon as it is tried.
+/// Returns the number of augmenting paths used.
 pub(crate) fn grow_until_routed(
     network: &mut Network,
     max_horizon: u32,
     deadline_at: Instant,
+    on_layer: &mut dyn FnMut(u32),
 ) -> Option<u64> {
     let needed = network.group.starts.len();
     let mut augmentations = 0;
     let mut level = Vec::new();
     loop {
+        on_layer(network.horizon);
         while network.flow < needed {
             if !levels(network, &mut level) {
                 break;

@@ -39,5 +39,5 @@ pub use lower_bound::{group_lower_bound, makespan_lower_bound};
 pub use matching::maximum_matching;
 pub use options::PlanOptions;
 pub use solve::{Solution, TapfGroup, TapfSolution, solve, solve_tapf, solve_with_progress};
-pub use stats::{LegStats, PlanStats, Progress};
+pub use stats::{LegStats, PlanPhase, PlanStats, Progress};
 pub use validator::{PlanViolation, validate_plan};

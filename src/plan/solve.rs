@@ -8,7 +8,7 @@ use super::lower_bound::group_lower_bound;
 use super::network::GroupCells;
 use super::options::PlanOptions;
 use super::space::Space;
-use super::stats::{PlanStats, Progress};
+use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
 use crate::mission::{Mission, Targets};
 use crate::world::{Voxel, VoxelGrid};
 use std::time::Instant;
@@ -91,41 +91,25 @@ pub fn solve_with_progress(
     let mut stats = PlanStats::default();
     let mut legs = Vec::new();
     for leg in mission.legs() {
-        // Shared targets make one CBM group; per-drone targets one group per drone.
-        let mut tapf = Vec::new();
-        let mut owners = Vec::new();
-        for (gi, targets) in leg.targets.iter().enumerate() {
-            match (targets, targets.per_drone(&at[gi])) {
-                (Targets::Any(goals), _) => {
-                    tapf.push(TapfGroup {
-                        starts: at[gi].clone(),
-                        goals: goals.clone(),
-                    });
-                    owners.push((gi, None));
-                }
-                (_, Some(own)) => {
-                    for (di, goal) in own.into_iter().enumerate() {
-                        tapf.push(TapfGroup {
-                            starts: vec![at[gi][di]],
-                            goals: vec![goal],
-                        });
-                        owners.push((gi, Some(di)));
-                    }
-                }
-                (_, None) => return Err(PlanError::Internal("leg targets without a voxel set")),
-            }
-        }
+        let (tapf, owners) = leg_instance(&leg.targets, &at)?;
         let remaining = options.deadline.saturating_sub(started.elapsed());
         let leg_options = PlanOptions {
             deadline: remaining,
             ..options.clone()
         };
-        let solved = solve_in_space(grid, &space, &tapf, &leg_options, progress).map_err(|e| {
-            PlanError::Leg {
+        let mut in_leg = |p: &Progress| {
+            progress(&Progress {
                 leg: leg.name.clone(),
-                reason: Box::new(named(e, mission, &owners)),
-            }
-        })?;
+                ..p.clone()
+            });
+        };
+        let solved =
+            solve_in_space(grid, &space, &tapf, &leg_options, &mut in_leg).map_err(|e| {
+                PlanError::Leg {
+                    leg: leg.name.clone(),
+                    reason: Box::new(named(e, mission, &owners)),
+                }
+            })?;
         for ((gi, di), group_paths) in owners.iter().zip(&solved.paths) {
             let drones: Vec<usize> = match di {
                 Some(di) => vec![*di],
@@ -173,6 +157,42 @@ pub fn solve_with_progress(
         },
         stats,
     })
+}
+
+/// Which TAPF group each of a leg's groups or drones becomes: `(group, None)` for a
+/// group's shared targets, `(group, Some(drone))` for a drone's own.
+type Owners = Vec<(usize, Option<usize>)>;
+
+/// A leg as one TAPF instance from where the drones are (`at`, per group): shared
+/// targets make one CBM group; per-drone targets one group per drone.
+fn leg_instance(
+    targets: &[Targets],
+    at: &[Vec<Voxel>],
+) -> Result<(Vec<TapfGroup>, Owners), PlanError> {
+    let mut tapf = Vec::new();
+    let mut owners = Vec::new();
+    for (gi, targets) in targets.iter().enumerate() {
+        match (targets, targets.per_drone(&at[gi])) {
+            (Targets::Any(goals), _) => {
+                tapf.push(TapfGroup {
+                    starts: at[gi].clone(),
+                    goals: goals.clone(),
+                });
+                owners.push((gi, None));
+            }
+            (_, Some(own)) => {
+                for (di, goal) in own.into_iter().enumerate() {
+                    tapf.push(TapfGroup {
+                        starts: vec![at[gi][di]],
+                        goals: vec![goal],
+                    });
+                    owners.push((gi, Some(di)));
+                }
+            }
+            (_, None) => return Err(PlanError::Internal("leg targets without a voxel set")),
+        }
+    }
+    Ok((tapf, owners))
 }
 
 /// `e` with the TAPF group indices (`#i`) it names replaced by what the user wrote:
@@ -237,7 +257,21 @@ fn solve_in_space(
     let compact = |v| grid.cell(v).map(|c| space.compact(c));
     let mut cells = Vec::with_capacity(groups.len());
     let mut lower_bounds = Vec::with_capacity(groups.len());
+    let mut throttle = Throttle::new();
     for (gi, g) in groups.iter().enumerate() {
+        if throttle.due() {
+            progress(&Progress {
+                leg: String::new(),
+                phase: PlanPhase::LowerBounds {
+                    groups_done: gi,
+                    groups: groups.len(),
+                },
+                ct_nodes_expanded: 0,
+                open_nodes: 0,
+                best_lower_bound_steps: lower_bounds.iter().copied().max().unwrap_or(0),
+                elapsed: started.elapsed(),
+            });
+        }
         let starts: Option<Vec<u32>> = g.starts.iter().map(|&v| compact(v)).collect();
         let goals: Option<Vec<u32>> = g.goals.iter().map(|&v| compact(v)).collect();
         let unreachable = || PlanError::Unreachable(format!("#{gi}"));

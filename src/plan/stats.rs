@@ -1,6 +1,6 @@
 //! What the planner reports about its search: counters at the end, progress on the way.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Counters describing the search, for reports and benchmarks.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
@@ -85,9 +85,13 @@ impl PlanStats {
 }
 
 /// Reported while the search runs, a few times a second, so a long search can show
-/// that it is alive and how close it is.
+/// that it is alive, what it is doing and how close it is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Progress {
+    /// The leg of the flight being planned (empty for a single TAPF instance).
+    pub leg: String,
+    /// What the planner is doing.
+    pub phase: PlanPhase,
     /// Conflict-tree nodes expanded so far.
     pub ct_nodes_expanded: u64,
     /// Nodes waiting on the open list: how wide the search currently is.
@@ -96,4 +100,74 @@ pub struct Progress {
     pub best_lower_bound_steps: u32,
     /// Time since the search started.
     pub elapsed: Duration,
+}
+
+/// The planner's phases, in order, with how far each has got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlanPhase {
+    /// Bounding each group's makespan, collisions ignored.
+    LowerBounds {
+        /// Groups bounded so far.
+        groups_done: usize,
+        /// Groups in the leg.
+        groups: usize,
+    },
+    /// Routing each group on its own (the conflict tree's root): the least horizon
+    /// it can be routed in, grown one step at a time, then its routing.
+    Root {
+        /// Groups routed so far.
+        groups_done: usize,
+        /// Groups in the leg.
+        groups: usize,
+        /// The horizon the current group is being tried at, steps.
+        horizon_steps: u32,
+    },
+    /// Resolving conflicts between groups.
+    ConflictTree,
+}
+
+impl std::fmt::Display for PlanPhase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            PlanPhase::LowerBounds {
+                groups_done,
+                groups,
+            } => write!(f, "lower bounds, {groups_done}/{groups} groups"),
+            PlanPhase::Root {
+                groups_done,
+                groups,
+                horizon_steps,
+            } => write!(
+                f,
+                "routing each group, {groups_done}/{groups} done, trying {horizon_steps} steps"
+            ),
+            PlanPhase::ConflictTree => write!(f, "conflict tree"),
+        }
+    }
+}
+
+/// Lets progress reports through a few times a second.
+#[derive(Debug)]
+pub(crate) struct Throttle {
+    last: Instant,
+}
+
+impl Throttle {
+    /// How often a report is let through.
+    const EVERY: Duration = Duration::from_millis(200);
+
+    pub(crate) fn new() -> Self {
+        Self {
+            last: Instant::now(),
+        }
+    }
+
+    /// True when the last report let through is `EVERY` old.
+    pub(crate) fn due(&mut self) -> bool {
+        let due = self.last.elapsed() >= Self::EVERY;
+        if due {
+            self.last = Instant::now();
+        }
+        due
+    }
 }

@@ -156,6 +156,10 @@ pub fn report(
     for line in log.summary.lines() {
         eprintln!("{line}");
     }
+    for e in &log.events {
+        let who = e.drone.as_deref().unwrap_or("swarm");
+        eprintln!("  event {:6.1} s {who}: {}", e.t_s, e.message);
+    }
     for d in &log.drones {
         eprintln!(
             "  {} frame {} origin {:?} final {:?} tracking {:?} holds {}",

@@ -99,10 +99,16 @@ fn solve_with_spinner(
     spinner.set_message(format!("planning {} drones", mission.drone_count()));
     spinner.enable_steady_tick(Duration::from_millis(120));
     let result = plan::solve_with_progress(mission, options, &mut |p| {
+        let work = match p.phase {
+            plan::PlanPhase::ConflictTree => format!(
+                "conflict tree, {} nodes, {} open",
+                p.ct_nodes_expanded, p.open_nodes
+            ),
+            other => other.to_string(),
+        };
         spinner.set_message(format!(
-            "planning: {} conflict-tree nodes, {} open, makespan ≥ {} steps, {:.1} s",
-            p.ct_nodes_expanded,
-            p.open_nodes,
+            "planning leg {}: {work}, makespan ≥ {} steps, {:.1} s",
+            p.leg,
             p.best_lower_bound_steps,
             p.elapsed.as_secs_f64()
         ));

@@ -4,8 +4,6 @@ use super::Vehicle;
 use crate::dynamics::{Limits, Setpoint};
 use crate::mode::FlightMode;
 
-/// Descent speed in LAND and at the end of RTL, m/s (PX4 MPC_LAND_SPEED).
-const LAND_SPEED_MPS: f32 = 0.7;
 /// Climb speed limit during takeoff, m/s.
 const TAKEOFF_SPEED_MPS: f32 = 1.5;
 
@@ -41,11 +39,12 @@ impl Vehicle {
         }
     }
 
-    /// Hold north/east, sink at the landing speed.
+    /// Hold north/east, sink at the landing speed of the parameter table (so a
+    /// controller that lowers it is obeyed, as by real autopilots).
     fn descend_at(&self, position: [Option<f32>; 3]) -> Setpoint {
         Setpoint {
             position_ned_m: [position[0], position[1], None],
-            velocity_ned_mps: [None, None, Some(LAND_SPEED_MPS)],
+            velocity_ned_mps: [None, None, Some(self.params.land_speed_mps())],
             yaw_rad: None,
             accel_ned_mps2: [None; 3],
         }
