@@ -180,7 +180,7 @@ impl<'a> Search<'a> {
         for (g, cells) in self.groups.iter().enumerate() {
             let mut on_layer = |horizon_steps| {
                 if throttle.due() {
-                    let phase = PlanPhase::Root {
+                    let phase = PlanPhase::Horizons {
                         groups_done: g,
                         groups,
                         horizon_steps,
@@ -196,15 +196,19 @@ impl<'a> Search<'a> {
         let mut reservation = Reservation::new(self.space.len(), makespan);
         let mut routings = Vec::with_capacity(groups);
         for (g, cells) in self.groups.iter().enumerate() {
-            if throttle.due() {
-                let phase = PlanPhase::Root {
-                    groups_done: g,
-                    groups,
-                    horizon_steps: makespan,
-                };
-                progress(&self.progress(phase, 0));
-            }
-            let paths = self.route(cells, &empty, makespan, &reservation)?;
+            let mut on_routed = |drones_routed| {
+                if throttle.due() {
+                    let phase = PlanPhase::Routings {
+                        groups_done: g,
+                        groups,
+                        horizon_steps: makespan,
+                        drones_routed,
+                        drones: cells.starts.len(),
+                    };
+                    progress(&snapshot(started, phase, (0, 0), bound));
+                }
+            };
+            let paths = self.route(cells, &empty, makespan, &reservation, &mut on_routed)?;
             for p in &paths {
                 reservation.add_path(p);
             }
@@ -251,7 +255,13 @@ impl<'a> Search<'a> {
                 reservation.add_path(p);
             }
         }
-        let paths = self.route(cells, &constraints[group], makespan, &reservation)?;
+        let paths = self.route(
+            cells,
+            &constraints[group],
+            makespan,
+            &reservation,
+            &mut |_| {},
+        )?;
         let mut routings = parent.routings.clone();
         routings[group] = Rc::new(GroupRouting {
             min_horizon: horizon,
@@ -361,13 +371,26 @@ impl<'a> Search<'a> {
         constraints: &Constraints,
         horizon: u32,
         others: &Reservation,
+        on_routed: &mut dyn FnMut(usize),
     ) -> Result<Vec<Vec<u32>>, PlanError> {
         let started = Instant::now();
         let mut work = LowLevelWork::default();
-        let result = route(self.space, cells, constraints, horizon, others, &mut work);
+        let result = route(
+            self.space,
+            cells,
+            constraints,
+            horizon,
+            others,
+            (self.deadline_at, on_routed),
+            &mut work,
+        );
         self.account(started, work);
-        // The horizon was proven feasible just before, so this cannot fail.
-        result.ok_or(PlanError::Internal("no routing at a feasible horizon"))
+        match result {
+            Some(paths) => Ok(paths),
+            None if Instant::now() >= self.deadline_at => Err(self.deadline_error()),
+            // The horizon was proven feasible just before, so this cannot happen.
+            None => Err(PlanError::Internal("no routing at a feasible horizon")),
+        }
     }
 
     fn account(&mut self, started: Instant, work: LowLevelWork) {

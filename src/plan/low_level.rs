@@ -44,20 +44,22 @@ pub(crate) fn min_horizon(
 
 /// Routes the group at `horizon`, steering around `others` where it can, then with the
 /// fewest steps spent away from goals; swaps and rotations inside the group are
-/// replaced by waits.
+/// replaced by waits. `on_routed` hears how many drones have a path, phase by phase;
+/// `None` past `deadline_at`.
 pub(crate) fn route(
     space: &Space,
     group: &GroupCells,
     constraints: &Constraints,
     horizon: u32,
     others: &Reservation,
+    (deadline_at, on_routed): (Instant, &mut dyn FnMut(usize)),
     work: &mut LowLevelWork,
 ) -> Option<Vec<Vec<u32>>> {
     let mut network = Network::new(space, group, constraints, horizon);
     // One meeting with another group must outweigh any number of extra steps.
     let steps_at_most = group.starts.len() as i64 * (i64::from(horizon) + 1);
     network.set_penalty(others, steps_at_most + 1);
-    work.augmentations += route_at_least_cost(&mut network)?;
+    work.augmentations += route_at_least_cost(&mut network, deadline_at, on_routed)?;
     let mut paths = network.paths();
     remove_cycles(&mut paths, space.len());
     Some(paths)

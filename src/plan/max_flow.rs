@@ -22,6 +22,16 @@ pub(crate) fn grow_until_routed(
     let mut level = Vec::new();
     loop {
         on_layer(network.horizon);
+        // One depth-first sweep along any residual path first: it gives each node up
+        // at most once, so it costs at most one pass over the network, and on a big
+        // group it routes nearly every drone, where each of Dinic's phases is a
+        // breadth-first pass over the whole network. Any augmenting path keeps the
+        // flow valid, and the phases below finish the maximum flow exactly.
+        augmentations += route_all(
+            network,
+            &mut PathSearch::new(network.node_count()),
+            |_, _, _| true,
+        );
         while network.flow < needed {
             if !levels(network, &mut level) {
                 break;
@@ -36,6 +46,9 @@ pub(crate) fn grow_until_routed(
                 break;
             }
             augmentations += found;
+            if network.flow < needed && Instant::now() >= deadline_at {
+                return None;
+            }
         }
         if network.flow == needed {
             return Some(augmentations);

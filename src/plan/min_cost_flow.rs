@@ -8,19 +8,53 @@
 
 use super::network::{EdgeBuf, Network};
 use super::paths::{PathSearch, route_all};
+use super::space::NONE;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+use std::time::Instant;
 
 const INFINITE: i64 = i64::MAX / 4;
 
+/// Starting potentials: minus each cell's distance to the group's nearest goal (the
+/// sink's is 0), which makes every search goal-directed, as A* is.
+///
+/// They are valid — every reduced cost `cost + p(u) - p(v)` non-negative — while
+/// there is no flow: a move costs at least 1 (one step; more with a penalty) and
+/// changes the distance to the nearest goal by at most 1; waiting keeps it, and
+/// costs 0 only at a goal, where it is 0; vertex edges stay in their cell; a goal
+/// drains to the sink at distance 0. Moves along a shortest way to the goals then
+/// cost nothing, so the first search settles the sink without exploring the whole
+/// time-expanded network (with zero potentials it explores every node closer than
+/// the sink: nearly all of it, once per phase — the cost that dominated at
+/// drone-show scale), and drones that can fly straight to a goal are routed in the
+/// first phase together.
+fn goal_potentials(network: &Network) -> Vec<i64> {
+    let to_goal = &network.group.to_goal;
+    let cells = to_goal.len();
+    let mut potential: Vec<i64> = (0..network.node_count())
+        .map(|n| match to_goal[(n >> 1) % cells] {
+            NONE => 0, // walled off from every goal: never on a route
+            d => -i64::from(d),
+        })
+        .collect();
+    let sink = network.sink();
+    potential[sink] = 0;
+    potential
+}
+
 /// Routes every drone of the group at the network's horizon at least total cost.
-/// Returns the number of augmenting paths, or `None` if the horizon is too short.
-pub(crate) fn route_at_least_cost(network: &mut Network) -> Option<u64> {
+/// Returns the number of augmenting paths, or `None` if the horizon is too short or
+/// `deadline_at` passed (checked after each phase); `on_routed` hears the number
+/// of drones routed after each phase.
+pub(crate) fn route_at_least_cost(
+    network: &mut Network,
+    deadline_at: Instant,
+    on_routed: &mut dyn FnMut(usize),
+) -> Option<u64> {
     let needed = network.group.starts.len();
     let nodes = network.node_count();
     let sink = network.sink();
-    // All original costs are non-negative and there is no flow yet: zero potentials are valid.
-    let mut potential = vec![0i64; nodes];
+    let mut potential = goal_potentials(network);
     let mut distance = vec![INFINITE; nodes];
     let mut heap = BinaryHeap::new();
     let mut edges: EdgeBuf = [(0, 0); 9];
@@ -70,6 +104,10 @@ pub(crate) fn route_at_least_cost(network: &mut Network) -> Option<u64> {
             return None;
         }
         augmentations += routed;
+        on_routed(network.flow);
+        if network.flow < needed && Instant::now() >= deadline_at {
+            return None;
+        }
     }
     Some(augmentations)
 }

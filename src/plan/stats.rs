@@ -112,15 +112,29 @@ pub enum PlanPhase {
         /// Groups in the leg.
         groups: usize,
     },
-    /// Routing each group on its own (the conflict tree's root): the least horizon
-    /// it can be routed in, grown one step at a time, then its routing.
-    Root {
-        /// Groups routed so far.
+    /// The conflict tree's root, first part: each group's least horizon on its own,
+    /// grown one step at a time from its lower bound.
+    Horizons {
+        /// Groups whose horizon is known.
         groups_done: usize,
         /// Groups in the leg.
         groups: usize,
         /// The horizon the current group is being tried at, steps.
         horizon_steps: u32,
+    },
+    /// The root, second part: each group routed at the largest of those horizons,
+    /// around the groups routed before it.
+    Routings {
+        /// Groups routed so far.
+        groups_done: usize,
+        /// Groups in the leg.
+        groups: usize,
+        /// The horizon every group is routed at, steps.
+        horizon_steps: u32,
+        /// Drones of the group being routed that have their path so far.
+        drones_routed: usize,
+        /// Drones in that group.
+        drones: usize,
     },
     /// Resolving conflicts between groups.
     ConflictTree,
@@ -133,13 +147,24 @@ impl std::fmt::Display for PlanPhase {
                 groups_done,
                 groups,
             } => write!(f, "lower bounds, {groups_done}/{groups} groups"),
-            PlanPhase::Root {
+            PlanPhase::Horizons {
                 groups_done,
                 groups,
                 horizon_steps,
             } => write!(
                 f,
-                "routing each group, {groups_done}/{groups} done, trying {horizon_steps} steps"
+                "each group's least horizon, {groups_done}/{groups} done, trying {horizon_steps} steps"
+            ),
+            PlanPhase::Routings {
+                groups_done,
+                groups,
+                horizon_steps,
+                drones_routed,
+                drones,
+            } => write!(
+                f,
+                "routing each group at {horizon_steps} steps, {groups_done}/{groups} done \
+                 ({drones_routed}/{drones} drones of the next)"
             ),
             PlanPhase::ConflictTree => write!(f, "conflict tree"),
         }

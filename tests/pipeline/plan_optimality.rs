@@ -348,6 +348,36 @@ fn deadline_reports_the_best_lower_bound() {
     }
 }
 
+/// The deadline holds inside the low level too: a drone-show-sized group whose
+/// horizon and routing each take far longer than the deadline is stopped within a
+/// few seconds of it, not minutes later after finishing its flow.
+#[test]
+fn deadline_stops_the_low_level_of_a_big_instance() {
+    let m = generated(GenerateOptions {
+        dimensions: [60, 60, 10],
+        obstacles: 3_600,
+        drones: 3_000,
+        groups: 2,
+        seed: 1,
+        voxel_size_m: 1.0,
+        ..GenerateOptions::default()
+    });
+    let options = PlanOptions {
+        deadline: Duration::from_millis(500),
+        ..PlanOptions::default()
+    };
+    let started = std::time::Instant::now();
+    let result = plan::solve_tapf(&m.world, &formation(&m), &options);
+    let took = started.elapsed();
+    assert!(
+        matches!(result, Err(PlanError::Deadline { .. })),
+        "a 0.5 s deadline on 3,000 drones: {:?}",
+        result.map(|s| s.stats)
+    );
+    // Generous for a shared machine: one phase of the flow, not the whole flow.
+    assert!(took < Duration::from_secs(15), "stopped after {took:?}");
+}
+
 #[test]
 fn validator_catches_broken_plans() {
     let m = example("paper-example.yaml");
