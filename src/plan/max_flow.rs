@@ -32,24 +32,7 @@ pub(crate) fn grow_until_routed(
             &mut PathSearch::new(network.node_count()),
             |_, _, _| true,
         );
-        while network.flow < needed {
-            if !levels(network, &mut level) {
-                break;
-            }
-            let admissible = |u: usize, v: usize, _cost: i64| level[v] == level[u].wrapping_add(1);
-            let found = route_all(
-                network,
-                &mut PathSearch::new(network.node_count()),
-                admissible,
-            );
-            if found == 0 {
-                break;
-            }
-            augmentations += found;
-            if network.flow < needed && Instant::now() >= deadline_at {
-                return None;
-            }
-        }
+        augmentations += saturate(network, deadline_at, &mut level)?;
         if network.flow == needed {
             return Some(augmentations);
         }
@@ -58,6 +41,37 @@ pub(crate) fn grow_until_routed(
         }
         network.grow();
     }
+}
+
+/// Dinic's phases at the network's horizon until every drone is routed or no
+/// augmenting path is left (the flow is then maximum); `None` past `deadline_at`.
+/// Returns the number of augmenting paths used.
+pub(crate) fn saturate(
+    network: &mut Network,
+    deadline_at: Instant,
+    level: &mut Vec<u32>,
+) -> Option<u64> {
+    let needed = network.group.starts.len();
+    let mut augmentations = 0;
+    while network.flow < needed {
+        if !levels(network, level) {
+            break;
+        }
+        let admissible = |u: usize, v: usize, _cost: i64| level[v] == level[u].wrapping_add(1);
+        let found = route_all(
+            network,
+            &mut PathSearch::new(network.node_count()),
+            admissible,
+        );
+        if found == 0 {
+            break;
+        }
+        augmentations += found;
+        if network.flow < needed && Instant::now() >= deadline_at {
+            return None;
+        }
+    }
+    Some(augmentations)
 }
 
 /// Breadth-first levels from the open starts; true if the sink is reachable.
