@@ -51,7 +51,7 @@ pub fn group_lower_bound(world: &VoxelGrid, starts: &[Voxel], goals: &[Voxel]) -
     if starts.is_empty() {
         return None;
     }
-    let to_goal = nearest(world, &goals);
+    let to_goal = world.distances_from_any(&goals);
     let floor = starts
         .iter()
         .map(|&s| to_goal[s])
@@ -93,28 +93,6 @@ pub fn group_lower_bound(world: &VoxelGrid, starts: &[Voxel], goals: &[Voxel]) -
         }
         radius = radius.saturating_mul(2);
     }
-}
-
-/// Move counts from the nearest of `sources` to every cell (`UNREACHABLE` where none).
-fn nearest(world: &VoxelGrid, sources: &[usize]) -> Vec<u32> {
-    let mut dist = vec![UNREACHABLE; world.len()];
-    let mut queue = VecDeque::with_capacity(sources.len());
-    for &s in sources {
-        if dist[s] == UNREACHABLE {
-            dist[s] = 0;
-            queue.push_back(s);
-        }
-    }
-    while let Some(c) = queue.pop_front() {
-        let next = dist[c] + 1;
-        for n in world.neighbours(c) {
-            if dist[n] == UNREACHABLE {
-                dist[n] = next;
-                queue.push_back(n);
-            }
-        }
-    }
-    dist
 }
 
 /// Breadth-first searches bounded by a radius, sharing scratch space: each visits

@@ -225,12 +225,20 @@ impl VoxelGrid {
 
     /// Breadth-first move counts from `from` to every cell ([`UNREACHABLE`] where none).
     pub fn distances_from(&self, from: Cell) -> Vec<u32> {
+        self.distances_from_any(&[from])
+    }
+
+    /// Breadth-first move counts from the nearest of `sources` to every cell
+    /// ([`UNREACHABLE`] where none; blocked sources are ignored).
+    pub fn distances_from_any(&self, sources: &[Cell]) -> Vec<u32> {
         let mut dist = vec![UNREACHABLE; self.len()];
-        if self.blocked[from] {
-            return dist;
+        let mut queue = VecDeque::with_capacity(sources.len());
+        for &s in sources {
+            if !self.blocked[s] && dist[s] == UNREACHABLE {
+                dist[s] = 0;
+                queue.push_back(s);
+            }
         }
-        let mut queue = VecDeque::from([from]);
-        dist[from] = 0;
         while let Some(c) = queue.pop_front() {
             let next = dist[c] + 1;
             for n in self.neighbours(c) {
