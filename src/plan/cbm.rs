@@ -64,7 +64,11 @@ impl<'a> Search<'a> {
             options,
             stats: PlanStats::default(),
             deadline_at,
-            started: Instant::now(),
+            // When the caller started (its deadline's origin), so progress reports
+            // count from the same moment as the lower bounds' before them.
+            started: deadline_at
+                .checked_sub(options.deadline)
+                .unwrap_or_else(Instant::now),
         }
     }
 
