@@ -1,11 +1,11 @@
-//! Pre-flight: the autopilot's own speed, acceleration and jerk limits set to the
+//! Pre-flight: the autopilot's own speed, acceleration and jerk limits set from the
 //! mission's, and read back.
 //!
 //! Both autopilots shape a position target that runs ahead of the vehicle with
 //! their own kinematic limits: ArduCopter's guided mode chases it at up to
 //! `WPNAV_SPEED` (10 m/s by default), so a vehicle that lagged would race to catch
-//! up, far above the mission's limit. Setting the autopilot's limits to the
-//! mission's keeps a lagging vehicle within them too. ArduCopter also shapes every
+//! up, far above the mission's limit. Setting the autopilot's limits keeps a
+//! lagging vehicle within them too. ArduCopter also shapes every
 //! target with its own jerk limit (`PSC_JERK_XY`, `PSC_JERK_Z`, m/s³): set to the
 //! mission's, the S-curves swarmctl streams are exactly what its shaping can follow,
 //! so its target does not fall behind and overshoot to catch up. The autopilot's
@@ -26,28 +26,49 @@ pub enum Setting {
     AtMost(f32),
 }
 
+/// How far past its own speed maximum a vehicle goes, as a fraction, by truth:
+/// the room [`parameters`] leaves between that maximum and the mission's limit.
+/// PX4 SIH's velocity estimate is noisy (its accelerometer up to 1.7 m/s² per
+/// sample) and its controller follows it: with `MPC_XY_VEL_MAX` at a 1 m/s limit,
+/// a vehicle catching up with its setpoints went to 1.07 m/s by telemetry and
+/// 1.14 m/s by truth (CI, 2026-12-02). ArduCopter stays within 1 % of
+/// `WPNAV_SPEED` (truth 1.01 m/s at 1 m/s, 8 vehicles): none.
+pub fn own_speed_overshoot(flavour: Flavour) -> f64 {
+    match flavour {
+        Flavour::Px4 => 0.15,
+        Flavour::Ardupilot => 0.0,
+    }
+}
+
 /// The parameters set, in the order they are set, with what each gets from the
 /// mission's `limits` and the `commanded` limits trajectories are flown with
 /// (`Mission::commanded_limits`).
 ///
-/// The autopilot's own limits are the mission's: they bound how fast a lagging
-/// vehicle may catch up with its setpoints. The speeds of motions the autopilot
-/// plans itself — PX4's LAND descent (`MPC_Z_V_AUTO_DN` above `MPC_LAND_ALT2`,
-/// `MPC_LAND_SPEED` below, `MPC_LAND_CRWL` near the ground) — are the commanded
-/// speed, for the same reason trajectories are: the vehicle overshoots them by its
-/// speed headroom; ArduCopter's `LAND_SPEED` (below `LAND_ALT_LOW`) likewise.
-/// Measured on PX4 SIH at its defaults (1.5 m/s above `MPC_LAND_ALT2`, 0.7 m/s
-/// below): 1.06 m/s during one LAND against a 1 m/s limit. PX4 clamps the landing
-/// speeds to `MPC_Z_VEL_MAX_DN` itself, so they are set before the maxima.
+/// The autopilot's own speed maxima bound how fast a lagging vehicle catches up
+/// with its setpoints: the limit over (1 + [`own_speed_overshoot`]), so that the
+/// vehicle, overshooting what it asks itself for, stays within the limit — but
+/// never below the commanded speed, or it could not fly the trajectories at all.
+/// Not the commanded speed itself: clamped there, PX4 SIH on the wide formation
+/// (0.5 m/s commanded) could never catch up, trailed its setpoints by up to 1.46 m
+/// against a 1.2 m bound and waited 80 s at gates (2026-12-02). Acceleration and
+/// jerk are the mission's. The speeds of motions the autopilot plans itself — PX4's
+/// LAND descent (`MPC_Z_V_AUTO_DN` above `MPC_LAND_ALT2`, `MPC_LAND_SPEED` below,
+/// `MPC_LAND_CRWL` near the ground) — are lowered to the commanded speed, never
+/// raised (an operator may land slower); ArduCopter's `LAND_SPEED` (below
+/// `LAND_ALT_LOW`) likewise. Measured on PX4 SIH at its defaults (1.5 m/s above
+/// `MPC_LAND_ALT2`, 0.7 m/s below): 1.06 m/s during one LAND against a 1 m/s limit.
+/// PX4 clamps the landing speeds to `MPC_Z_VEL_MAX_DN` itself, so they are set
+/// before the maxima.
 pub fn parameters(
     flavour: Flavour,
     limits: &Limits,
     commanded: &Limits,
 ) -> Vec<(&'static str, Setting)> {
-    let v = limits.max_speed_mps as f32;
+    let v_commanded = commanded.max_speed_mps as f32;
+    let v = (limits.max_speed_mps / (1.0 + own_speed_overshoot(flavour)))
+        .max(commanded.max_speed_mps) as f32;
     let a = limits.max_accel_mps2 as f32;
     let j = limits.max_jerk_mps3 as f32;
-    let v_commanded = commanded.max_speed_mps as f32;
     match flavour {
         // Centimetres per second (squared), ArduCopter's units.
         Flavour::Ardupilot => vec![
@@ -149,10 +170,11 @@ mod tests {
         }
     }
 
-    /// The autopilot's own landing is never allowed above the commanded speed, and
-    /// on PX4 it is lowered before the vertical maximum that PX4 clamps it to.
+    /// The autopilot's own landing is never allowed above the commanded speed, on
+    /// PX4 it is lowered before the vertical maximum that PX4 clamps it to, and the
+    /// maxima leave the vehicle room to overshoot them within the limit.
     #[test]
-    fn landing_speeds_are_capped_at_the_commanded_speed_before_the_maxima() {
+    fn landing_speeds_are_capped_at_the_commanded_speed_and_maxima_below_the_limit() {
         let (mission, commanded) = (limits(1.0), limits(0.5));
         for flavour in [Flavour::Px4, Flavour::Ardupilot] {
             let set = parameters(flavour, &mission, &commanded);
@@ -175,8 +197,40 @@ mod tests {
             if flavour == Flavour::Px4 {
                 assert!(position("MPC_LAND_SPEED") < position("MPC_Z_VEL_MAX_DN"));
                 assert!(position("MPC_Z_V_AUTO_DN") < position("MPC_Z_VEL_MAX_DN"));
-                assert!(set.contains(&("MPC_Z_VEL_MAX_DN", Setting::To(1.0))));
+            }
+            // The vehicle's own maxima leave it room to overshoot them within the
+            // limit (PX4: 1 / 1.15 m/s), above the 0.5 m/s commanded.
+            let maxima: &[(&str, f32)] = match flavour {
+                Flavour::Px4 => &[
+                    ("MPC_XY_VEL_MAX", (1.0 / 1.15) as f32),
+                    ("MPC_Z_VEL_MAX_UP", (1.0 / 1.15) as f32),
+                    ("MPC_Z_VEL_MAX_DN", (1.0 / 1.15) as f32),
+                ],
+                Flavour::Ardupilot => &[
+                    ("WPNAV_SPEED", 100.0),
+                    ("WPNAV_SPEED_UP", 100.0),
+                    ("WPNAV_SPEED_DN", 100.0),
+                ],
+            };
+            for &(name, value) in maxima {
+                assert!(set.contains(&(name, Setting::To(value))), "{name}: {set:?}");
             }
         }
+    }
+
+    /// A vehicle flown at the limit itself keeps its maxima there: below the
+    /// commanded speed it could not follow its trajectories.
+    #[test]
+    fn speed_maxima_are_never_below_the_commanded_speed() {
+        let set = parameters(Flavour::Px4, &limits(1.0), &limits(1.0));
+        assert!(
+            set.contains(&("MPC_XY_VEL_MAX", Setting::To(1.0))),
+            "{set:?}"
+        );
+        let set = parameters(Flavour::Px4, &limits(1.0), &limits(0.9));
+        assert!(
+            set.contains(&("MPC_XY_VEL_MAX", Setting::To(0.9))),
+            "{set:?}"
+        );
     }
 }

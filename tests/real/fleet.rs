@@ -193,7 +193,7 @@ pub fn report(
 }
 
 /// The guarantees every completed real-firmware flight must show: frames from GPS,
-/// separation from telemetry and truth, speed, completion, every drone within
+/// separation and speed from telemetry and truth, completion, every drone within
 /// `arrival_m` of its goal, and plan execution within `max_stretch` × the planned
 /// makespan.
 pub fn assert_flight_kept_the_guarantees(
@@ -221,6 +221,12 @@ pub fn assert_flight_kept_the_guarantees(
         limits.safety_distance_m
     );
     assert!(s.speed_held, "telemetry speed {}", s.max_speed_mps);
+    let top_speed_mps = limits.max_speed_mps * (1.0 + fly::log::SPEED_TOLERANCE);
+    assert!(
+        truth.top_speed_mps <= top_speed_mps,
+        "true speed {:.3} m/s > {top_speed_mps:.3} m/s",
+        truth.top_speed_mps
+    );
     assert!(s.completed, "completed");
     assert!(
         s.max_final_distance_to_goal_m <= arrival_m,
