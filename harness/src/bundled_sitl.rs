@@ -143,6 +143,9 @@ fn faults_for(drone: &str, faults: &[FaultSpec]) -> Faults {
                     duration: Duration::MAX,
                 })
             }
+            FaultSpec::Crash { drone: d, after } if d == drone => {
+                out.crash_after_takeoff = Some(*after);
+            }
             FaultSpec::LowBattery { drone: d, after } if d == drone => {
                 out.low_battery_after = Some(*after);
                 out.critical_battery_after = Some(*after + CRITICAL_AFTER_LOW);

@@ -102,6 +102,11 @@ pub fn scenarios(reduced: bool) -> Vec<Scenario> {
             Expect::Lost { drone: "b1" },
         ),
         Scenario::new(
+            "b1 crashes (falls, silent)",
+            &["crash=b1@5s"],
+            Expect::Lost { drone: "b1" },
+        ),
+        Scenario::new(
             "r2 refuses to arm",
             &["refuse-arm=r2"],
             Expect::AbortsOnGround,
@@ -128,6 +133,7 @@ pub fn scenarios(reduced: bool) -> Vec<Scenario> {
             "latency 200 ms each way",
             "duplicated 20% + reordered 20%",
             "b1 lost for good",
+            "b1 crashes (falls, silent)",
             "r1 low battery",
             "r1 critical battery (autopilot lands it)",
         ];

@@ -83,6 +83,10 @@ pub struct Args {
     /// after 90 s armed: PX4 lands, ArduPilot returns and lands (repeatable).
     #[arg(long = "critical-battery", value_name = "SYSID@SECONDSs")]
     pub critical_battery: Vec<String>,
+    /// Crash: `SYSID@20s` stops the motors 20 s after takeoff; the vehicle falls
+    /// to the ground below it and its link goes silent for good (repeatable).
+    #[arg(long = "crash", value_name = "SYSID@SECONDSs")]
+    pub crash: Vec<String>,
     /// Benchmark instead of serving: run this many seconds with an in-process
     /// ground station receiving all telemetry, then report CPU use and missed ticks.
     #[arg(long, value_name = "SECONDS")]
@@ -152,8 +156,8 @@ fn link_drop(spec: &str) -> anyhow::Result<(u8, LinkDrop)> {
     ))
 }
 
-/// Parses `SYSID@60s`.
-fn battery_after(spec: &str) -> anyhow::Result<(u8, Duration)> {
+/// Parses `SYSID@60s` (the battery faults, a crash).
+fn id_after(spec: &str) -> anyhow::Result<(u8, Duration)> {
     let (id, after) = spec
         .split_once('@')
         .with_context(|| format!("expected SYSID@SECONDSs, got {spec:?}"))?;
@@ -237,12 +241,16 @@ impl Args {
             fault(&mut faults, *id, "--refuse-arm")?.refuse_arm = true;
         }
         for spec in &self.low_battery {
-            let (id, after) = battery_after(spec)?;
+            let (id, after) = id_after(spec)?;
             fault(&mut faults, id, spec)?.low_battery_after = Some(after);
         }
         for spec in &self.critical_battery {
-            let (id, after) = battery_after(spec)?;
+            let (id, after) = id_after(spec)?;
             fault(&mut faults, id, spec)?.critical_battery_after = Some(after);
+        }
+        for spec in &self.crash {
+            let (id, after) = id_after(spec)?;
+            fault(&mut faults, id, spec)?.crash_after_takeoff = Some(after);
         }
         let key = self.signing_key.as_deref().map(signing_key).transpose()?;
         let land_after = seconds_f64(self.offboard_loss_land_after_s)

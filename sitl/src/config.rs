@@ -81,6 +81,10 @@ pub struct Faults {
     /// CRITICAL) and the failsafe fires: PX4 lands, ArduPilot returns and
     /// lands; arming is refused afterwards. Critical implies low.
     pub critical_battery_after: Option<Duration>,
+    /// This long after takeoff the vehicle crashes: its motors stop, it falls
+    /// under gravity (straight down from a hover) and lies where it hits the
+    /// ground, and its link goes silent for good (nothing reports a crash).
+    pub crash_after_takeoff: Option<Duration>,
 }
 
 impl Default for Faults {
@@ -95,6 +99,7 @@ impl Default for Faults {
             refuse_arm: false,
             low_battery_after: None,
             critical_battery_after: None,
+            crash_after_takeoff: None,
         }
     }
 }

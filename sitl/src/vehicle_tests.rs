@@ -532,6 +532,32 @@ fn ardupilot_guided_holds_when_the_setpoint_stream_stops() {
     assert!(norm(v.body.velocity_ned_mps) < 0.01);
 }
 
+/// A crash stops the motors: the vehicle falls straight down, lies on the ground
+/// below where it was (still armed: nobody disarmed it), and never speaks again.
+#[test]
+fn a_crashed_vehicle_falls_to_the_ground_below_it_and_stays_silent() {
+    let faults = Faults {
+        crash_after_takeoff: Some(Duration::from_secs(3)),
+        ..Faults::default()
+    };
+    let mut v = vehicle(Flavour::Px4, faults);
+    arm(&mut v);
+    command(&mut v, MavCmd::MAV_CMD_NAV_TAKEOFF, NAN7);
+    run(&mut v, 2.5);
+    assert!(v.airborne() && !v.crashed() && !v.link_down());
+    let above = v.body.position_ned_m;
+    run(&mut v, 1.0);
+    assert!(v.crashed() && v.link_down());
+    run(&mut v, 5.0);
+    let p = v.body.position_ned_m;
+    assert!(v.landed(), "on the ground: {p:?}");
+    assert!(
+        (p[0] - above[0]).abs() < 0.05 && (p[1] - above[1]).abs() < 0.05,
+        "straight down from {above:?}, lies at {p:?}"
+    );
+    assert!(v.link_down(), "silent for good");
+}
+
 #[test]
 fn permanent_link_drop_never_comes_back() {
     let faults = Faults {

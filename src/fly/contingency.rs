@@ -9,8 +9,9 @@
 //! - **Lost** (no message for [`LOST_AFTER_S`]): reported, left to its own
 //!   failsafe, which must be position hold (see the README). If every other drone
 //!   is at its goal or held at a gate, the flight ends: each lands when its
-//!   column is clear, and one that cannot (the lost drone hovers below it) is put
-//!   in the autopilot's hold mode and reported for manual control.
+//!   column is clear, and one that cannot (the lost drone was last seen below or
+//!   above it: silent, it may have crashed into the column) is put in the
+//!   autopilot's hold mode and reported for manual control.
 //! - **Low battery** ([`LOW_BATTERY_PCT`] or less): the drone stops at once, the
 //!   whole swarm pauses (everyone brakes to rest along its path, where the plan
 //!   graph keeps them safe), and the drone descends once nothing is below it.
@@ -88,9 +89,11 @@ pub fn paused_for(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> bool
 
 /// True if `i` can descend vertically: no other drone is below it within the safety
 /// distance horizontally — where it is, or where it would stop braking from its
-/// measured velocity (a drone still sliding after an abort comes underneath), a
-/// lost one at its last known position and one already down on the ground
-/// included (nobody lands on top of another). Returns the blocking drone otherwise.
+/// measured velocity (a drone still sliding after an abort comes underneath), one
+/// already down on the ground included (nobody lands on top of another) — and no
+/// lost drone last seen in the air is within that distance horizontally at any
+/// height: silent, it may have crashed and be falling or lying on the ground below
+/// where it was seen. Returns the blocking drone otherwise.
 pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> Option<usize> {
     let p = drones.get(i)?.position_m()?;
     drones.iter().enumerate().find_map(|(j, other)| {
@@ -98,6 +101,11 @@ pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> 
             return None;
         }
         let now = other.position_m()?;
+        // A lost drone may be falling (or already down) anywhere below its last
+        // known position: its whole column is blocked, above the lander or not.
+        if matches!(other.phase(), Phase::Lost { .. }) && now[2] > AIRBORNE_M {
+            return (horizontal_m(p, now) < safety_distance_m + COLUMN_MARGIN_M).then_some(j);
+        }
         let stop = other
             .stopping_point_m(other.follower().limits())
             .unwrap_or(now);

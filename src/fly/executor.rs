@@ -316,13 +316,19 @@ impl<'a> Flight<'a> {
             }
         }
         for i in contingency::stranded(self.drones, safety_distance_m) {
-            let blocker = contingency::column_blocker(self.drones, i, safety_distance_m)
-                .map_or_else(String::new, |j| self.drones[j].id().to_string());
+            let why = match contingency::column_blocker(self.drones, i, safety_distance_m) {
+                Some(j) if matches!(self.drones[j].phase(), Phase::Lost { .. }) => format!(
+                    "lost drone {} was last seen in its column (it may have fallen there)",
+                    self.drones[j].id()
+                ),
+                Some(j) => format!("{} is below it", self.drones[j].id()),
+                None => "its column is blocked".to_string(),
+            };
             let d = &mut self.drones[i];
             self.out.events.push(LogEvent::new(
                 since_arm_s,
                 Some(d.id()),
-                &format!("cannot land: {blocker} is below it; left in the autopilot's position hold — take manual control"),
+                &format!("cannot land: {why}; left in the autopilot's position hold — take manual control"),
             ));
             d.hand_over();
         }

@@ -50,6 +50,14 @@ pub enum FaultSpec {
         /// Time after arming when the battery turns critical.
         after: Duration,
     },
+    /// This drone crashes `after` takeoff: its motors stop, it falls to the ground
+    /// below it and never speaks again (a lost drone that is not hovering).
+    Crash {
+        /// The drone's mission id.
+        drone: String,
+        /// Time after takeoff when it crashes.
+        after: Duration,
+    },
     /// This drone flies at `factor` times the speed it is commanded.
     Slow {
         /// The drone's mission id.
@@ -90,6 +98,7 @@ impl FaultSpec {
             FaultSpec::Slow { drone, .. }
             | FaultSpec::Drop { drone, .. }
             | FaultSpec::Lose { drone, .. }
+            | FaultSpec::Crash { drone, .. }
             | FaultSpec::LowBattery { drone, .. }
             | FaultSpec::CriticalBattery { drone, .. }
             | FaultSpec::RefuseArm { drone } => Some(drone),
@@ -109,7 +118,7 @@ pub fn parse_fault(flag: &str) -> Result<FaultSpec, FaultError> {
     };
     let (kind, value) = flag
         .split_once('=')
-        .ok_or_else(|| bad("expected KIND=VALUE (loss=10%, latency=50ms, dup=5%, reorder=10%, slow=ID:0.5, drop=ID@5s+3s, lose=ID@5s, refuse-arm=ID, low-battery=ID@10s, critical-battery=ID@10s)"))?;
+        .ok_or_else(|| bad("expected KIND=VALUE (loss=10%, latency=50ms, dup=5%, reorder=10%, slow=ID:0.5, drop=ID@5s+3s, lose=ID@5s, crash=ID@5s, refuse-arm=ID, low-battery=ID@10s, critical-battery=ID@10s)"))?;
     let percent = |name: &str| -> Result<f64, FaultError> {
         let number = value
             .strip_suffix('%')
@@ -143,6 +152,10 @@ pub fn parse_fault(flag: &str) -> Result<FaultSpec, FaultError> {
         "lose" => {
             let (drone, after) = drone_at("lose=b1@5s")?;
             Ok(FaultSpec::Lose { drone, after })
+        }
+        "crash" => {
+            let (drone, after) = drone_at("crash=b1@5s")?;
+            Ok(FaultSpec::Crash { drone, after })
         }
         "low-battery" => {
             let (drone, after) = drone_at("low-battery=b1@10s")?;
@@ -194,7 +207,7 @@ pub fn parse_fault(flag: &str) -> Result<FaultSpec, FaultError> {
                 .to_string(),
         }),
         _ => Err(bad(
-            "unknown fault kind (loss, latency, dup, reorder, slow, drop, lose, refuse-arm, low-battery, critical-battery)",
+            "unknown fault kind (loss, latency, dup, reorder, slow, drop, lose, crash, refuse-arm, low-battery, critical-battery)",
         )),
     }
 }
@@ -264,6 +277,13 @@ mod tests {
             Ok(FaultSpec::Lose {
                 drone: "r2".into(),
                 after: Duration::from_secs(8)
+            })
+        );
+        assert_eq!(
+            parse_fault("crash=b3@20s"),
+            Ok(FaultSpec::Crash {
+                drone: "b3".into(),
+                after: Duration::from_secs(20)
             })
         );
         assert_eq!(

@@ -49,6 +49,14 @@ pub enum PlanError {
         /// Why it failed (part of the message, so not a `source`: it would print twice).
         reason: Box<PlanError>,
     },
+    /// A replan's live state does not fit its mission (see `plan::replan`).
+    #[error("cannot replan: drone {drone}: {problem}")]
+    LiveState {
+        /// The drone the state names.
+        drone: String,
+        /// What is wrong with it.
+        problem: String,
+    },
     /// A planner invariant broke; a bug, reported instead of panicking.
     #[error("internal planner error: {0}")]
     Internal(&'static str),

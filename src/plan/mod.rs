@@ -9,7 +9,8 @@
 //! to finish answers; both are makespan-optimal. [`solve`] plans a whole
 //! flight pad to pad as the mission's legs (takeoff, formations, landing), one CBM
 //! instance each, in the mission's airspace. [`validate_plan`] checks any plan
-//! against its mission and shares no code with the solver. Reading a plan file back
+//! against its mission and shares no code with the solver. [`replan`] plans the
+//! rest of a flight from where the drones are, without the lost ones. Reading a plan file back
 //! (`swarmctl fly --plan`) is `compiled::file`'s job, above this module.
 
 mod cbm;
@@ -26,6 +27,7 @@ mod min_cost_flow;
 mod network;
 mod options;
 mod paths;
+mod replan;
 mod rotation;
 mod sat;
 mod solve;
@@ -38,6 +40,7 @@ pub use error::PlanError;
 pub use lower_bound::{group_lower_bound, makespan_lower_bound};
 pub use matching::maximum_matching;
 pub use options::PlanOptions;
+pub use replan::{Replanned, replan, replan_with_progress};
 pub use solve::{Solution, TapfGroup, TapfSolution, solve, solve_tapf, solve_with_progress};
 pub use stats::{LegStats, PlanPhase, PlanStats, Progress};
 pub use validator::{PlanViolation, validate_plan};

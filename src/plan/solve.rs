@@ -76,21 +76,35 @@ pub fn solve_with_progress(
     options: &PlanOptions,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Solution, PlanError> {
-    let started = Instant::now();
-    let grid = &mission.airspace;
-    let space = Space::new(grid, options.seed);
-    let mut at: Vec<Vec<Voxel>> = mission
+    let pads: Vec<Vec<Voxel>> = mission
         .groups
         .iter()
         .map(|g| g.drones.iter().map(|d| d.pad_voxel()).collect())
         .collect();
+    solve_from(mission, 0, pads, options, progress)
+}
+
+/// Plans `mission`'s legs from `from_leg` on (an index into `Mission::legs`), every
+/// drone starting where `at` puts it (per group, per drone, in mission order), as
+/// [`solve_with_progress`] plans them from the pads: the rest of a flight after a
+/// replan (see `replan`). Paths start at `at`; the plan's legs are the legs planned.
+pub(super) fn solve_from(
+    mission: &Mission,
+    from_leg: usize,
+    mut at: Vec<Vec<Voxel>>,
+    options: &PlanOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Solution, PlanError> {
+    let started = Instant::now();
+    let grid = &mission.airspace;
+    let space = Space::new(grid, options.seed);
     let mut paths: Vec<Vec<Vec<Voxel>>> = at
         .iter()
         .map(|g| g.iter().map(|&v| vec![v]).collect())
         .collect();
     let mut stats = PlanStats::default();
     let mut legs = Vec::new();
-    for leg in mission.legs() {
+    for leg in mission.legs().into_iter().skip(from_leg) {
         let (tapf, owners) = leg_instance(&leg.targets, &at)?;
         let remaining = options.deadline.saturating_sub(started.elapsed());
         let leg_options = PlanOptions {
@@ -136,10 +150,13 @@ pub fn solve_with_progress(
     let mut sum_of_costs = 0;
     for (g, group_paths) in mission.groups.iter().zip(paths) {
         for (d, path) in g.drones.iter().zip(group_paths) {
+            let Some(&goal) = path.last() else {
+                return Err(PlanError::Internal("a drone without a path"));
+            };
             let plan = DronePlan {
                 id: d.id.clone(),
                 group: g.name.clone(),
-                goal: *path.last().unwrap_or(&d.pad_voxel()),
+                goal,
                 path,
             };
             sum_of_costs += u64::from(plan.arrival_step());

@@ -73,6 +73,18 @@ async fn a_drone_lost_for_good_is_reported_and_the_rest_land() {
     assert!(log.summary.gating_waits > 0, "somebody waited for b1");
 }
 
+/// A crash is a loss that is not hovering: b1's motors stop 5 s after takeoff, it
+/// falls and never speaks again. It is reported lost, the drones that need it
+/// wait, and the rest land apart (truth: airborne pairs, the fall included).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_crashed_drone_is_reported_lost_and_the_rest_land_apart() {
+    let report = fly("b1 crashes (falls, silent)").await;
+    assert!(reported(&report, "b1", "LOST"), "b1's loss is in the log");
+    let log = report.log.expect("flight log");
+    assert!(!log.summary.completed);
+    assert_eq!(log.summary.lost, ["b1"]);
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn low_battery_drone_leaves_the_plan_and_the_rest_finish() {
     let report = fly("r1 low battery").await;

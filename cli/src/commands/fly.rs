@@ -38,8 +38,11 @@ pub struct Args {
     /// GPS with `world.geo_origin`, or its report in a shared frame) and its pad.
     #[arg(long, value_name = "METRES", default_value_t = 0.3)]
     pad_tolerance: f64,
-    /// Bundled SITL fault, repeatable: loss=10%, latency=50ms, slow=DRONE_ID:0.5,
-    /// drop=DRONE_ID@5s+3s, refuse-arm=DRONE_ID.
+    /// Bundled SITL fault, repeatable: link-wide loss=10%, latency=50ms, dup=5%,
+    /// reorder=10%; per drone slow=DRONE_ID:0.5, drop=DRONE_ID@5s+3s (link cut
+    /// 5 s after takeoff for 3 s), lose=DRONE_ID@5s (cut for good), crash=DRONE_ID@5s
+    /// (motors stop, it falls, silent), refuse-arm=DRONE_ID,
+    /// low-battery=DRONE_ID@10s, critical-battery=DRONE_ID@10s (after arming).
     #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
     faults: Vec<FaultSpec>,
     /// Flight log (JSON); default flights/<mission>-<unix time>.json.

@@ -232,8 +232,22 @@ impl Vehicle {
         self.body.height_m() > AIRBORNE_HEIGHT_M
     }
 
-    /// Whether an injected link drop is cutting the link right now.
+    /// Whether an injected crash has happened: motors off, falling or fallen.
+    pub fn crashed(&self) -> bool {
+        match (
+            self.config.faults.crash_after_takeoff,
+            self.first_airborne_s,
+        ) {
+            (Some(after), Some(airborne_s)) => self.time_s >= airborne_s + seconds_or_never(after),
+            _ => false,
+        }
+    }
+
+    /// Whether an injected link drop (or a crash) is cutting the link right now.
     pub fn link_down(&self) -> bool {
+        if self.crashed() {
+            return true;
+        }
         match (self.config.faults.link_drop, self.first_airborne_s) {
             (Some(drop), Some(airborne_s)) => {
                 let start_s = airborne_s + seconds_or_never(drop.after_takeoff);
@@ -263,7 +277,8 @@ impl Vehicle {
         self.update_mode();
         let setpoint = self.current_setpoint();
         let limits = self.mode_limits();
-        self.body.step(dt_s as f32, &setpoint, &limits, self.armed);
+        let thrust = self.armed && !self.crashed();
+        self.body.step(dt_s as f32, &setpoint, &limits, thrust);
         if self.first_airborne_s.is_none() && self.airborne() {
             self.first_airborne_s = Some(self.time_s);
         }

@@ -1,0 +1,115 @@
+//! Replanning latency, the planning part: the rest of a flight after a loss, from
+//! where takeoff left the drones, against planning the whole flight in the same run.
+//!
+//! `cargo bench --bench replan` — the paper's setting (100 drones in 5 groups,
+//! 10×10×5, 150 obstacles, `swarmctl gen` seeds 1–5) and the formation change (8
+//! drones); in each, the first drone whose loss right after takeoff can be
+//! replanned is lost there and its column is blocked. Prints each replan's makespan beside the whole plan's.
+
+// A benchmark whose instance cannot be built should stop at once, loudly.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use swarmctl::generate::{GenerateOptions, generate};
+use swarmctl::mission::{self, Mission};
+use swarmctl::plan::{self, PlanOptions};
+use swarmctl::world::Voxel;
+
+/// Where takeoff left every drone.
+fn after_takeoff(m: &Mission, options: &PlanOptions) -> Vec<(String, Voxel)> {
+    let whole = plan::solve(m, options).expect("plan").plan;
+    let step = whole.legs[0].end_step as usize;
+    whole
+        .drones
+        .iter()
+        .map(|d| (d.id.clone(), d.path[step]))
+        .collect()
+}
+
+/// The first drone (in mission order) whose loss right after takeoff the replan
+/// answers, and how many before it it could not: a loss whose column holds a
+/// survivor, another group's goal or pad leaves no plan by design (`plan::replan`).
+fn first_answerable_loss(
+    m: &Mission,
+    at: &[(String, Voxel)],
+    options: &PlanOptions,
+) -> (usize, usize) {
+    for i in 0..at.len() {
+        let survivors: Vec<(&str, Voxel)> = at
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != i)
+            .map(|(_, (id, v))| (id.as_str(), *v))
+            .collect();
+        if plan::replan(m, 1, &survivors, &[at[i].1], options).is_ok() {
+            return (i, i);
+        }
+    }
+    panic!("no single loss can be replanned");
+}
+
+fn replan_after_a_loss(c: &mut Criterion) {
+    let options = PlanOptions::default();
+    let mut missions: Vec<(String, Mission)> = (1..=5)
+        .map(|seed| {
+            let file = generate(&GenerateOptions {
+                seed,
+                ..GenerateOptions::default()
+            })
+            .expect("mission");
+            (
+                format!("paper-scale seed {seed}"),
+                mission::validate(&file).expect("valid"),
+            )
+        })
+        .collect();
+    let formation = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/missions/formation-change.yaml"
+    );
+    missions.push((
+        "formation change".into(),
+        mission::load(std::path::Path::new(formation)).expect("mission"),
+    ));
+    let mut group = c.benchmark_group("replan");
+    for (name, m) in &missions {
+        let at = after_takeoff(m, &options);
+        let (lost_index, unanswered) = first_answerable_loss(m, &at, &options);
+        let lost = at[lost_index].1;
+        let named: Vec<(&str, Voxel)> = at
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != lost_index)
+            .map(|(_, (id, v))| (id.as_str(), *v))
+            .collect();
+        let re = plan::replan(m, 1, &named, &[lost], &options).expect("replan");
+        eprintln!(
+            "{name}: {} lost ({unanswered} earlier drones' losses have no plan)",
+            at[lost_index].0
+        );
+        let whole = plan::solve(m, &options).expect("plan").plan;
+        eprintln!(
+            "{name}: {} survivors; rest of the flight {} steps (legs {:?}) vs whole {} steps",
+            named.len(),
+            re.solution.plan.makespan_steps,
+            re.solution
+                .plan
+                .legs
+                .iter()
+                .map(|l| l.makespan_steps)
+                .collect::<Vec<_>>(),
+            whole.makespan_steps
+        );
+        group.bench_with_input(BenchmarkId::new("whole flight", name), m, |b, m| {
+            b.iter(|| black_box(plan::solve(m, &options).unwrap()))
+        });
+        group.bench_with_input(BenchmarkId::new("rest after a loss", name), m, |b, m| {
+            b.iter(|| black_box(plan::replan(m, 1, &named, &[lost], &options).unwrap()))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, replan_after_a_loss);
+criterion_main!(benches);
