@@ -27,6 +27,15 @@ fn after_takeoff(m: &Mission, options: &PlanOptions) -> Vec<(String, Voxel)> {
         .collect()
 }
 
+/// Everyone in `at` but drone `lost`, as `plan::replan` takes survivors.
+fn survivors_without(at: &[(String, Voxel)], lost: usize) -> Vec<(&str, Voxel)> {
+    at.iter()
+        .enumerate()
+        .filter(|&(j, _)| j != lost)
+        .map(|(_, (id, v))| (id.as_str(), *v))
+        .collect()
+}
+
 /// The first drone (in mission order) whose loss right after takeoff the replan
 /// answers, and how many before it it could not: a loss whose column holds a
 /// survivor, another group's goal or pad leaves no plan by design (`plan::replan`).
@@ -36,12 +45,7 @@ fn first_answerable_loss(
     options: &PlanOptions,
 ) -> (usize, usize) {
     for i in 0..at.len() {
-        let survivors: Vec<(&str, Voxel)> = at
-            .iter()
-            .enumerate()
-            .filter(|&(j, _)| j != i)
-            .map(|(_, (id, v))| (id.as_str(), *v))
-            .collect();
+        let survivors = survivors_without(at, i);
         if plan::replan(m, 1, &survivors, &[at[i].1], options).is_ok() {
             return (i, i);
         }
@@ -77,13 +81,10 @@ fn replan_after_a_loss(c: &mut Criterion) {
         let at = after_takeoff(m, &options);
         let (lost_index, unanswered) = first_answerable_loss(m, &at, &options);
         let lost = at[lost_index].1;
-        let named: Vec<(&str, Voxel)> = at
-            .iter()
-            .enumerate()
-            .filter(|&(j, _)| j != lost_index)
-            .map(|(_, (id, v))| (id.as_str(), *v))
-            .collect();
+        let named = survivors_without(&at, lost_index);
         let re = plan::replan(m, 1, &named, &[lost], &options).expect("replan");
+        plan::validate_rest(&re.mission, re.from_leg, &named, &re.solution.plan)
+            .expect("the checker takes the replan");
         eprintln!(
             "{name}: {} lost ({unanswered} earlier drones' losses have no plan)",
             at[lost_index].0

@@ -10,7 +10,8 @@
 //! flight pad to pad as the mission's legs (takeoff, formations, landing), one CBM
 //! instance each, in the mission's airspace. [`validate_plan`] checks any plan
 //! against its mission and shares no code with the solver. [`replan`] plans the
-//! rest of a flight from where the drones are, without the lost ones. Reading a plan file back
+//! rest of a flight from where the drones are, without the lost ones, and
+//! [`validate_rest`] checks such a plan the same way. Reading a plan file back
 //! (`swarmctl fly --plan`) is `compiled::file`'s job, above this module.
 
 mod cbm;
@@ -43,4 +44,4 @@ pub use options::PlanOptions;
 pub use replan::{Replanned, replan, replan_with_progress};
 pub use solve::{Solution, TapfGroup, TapfSolution, solve, solve_tapf, solve_with_progress};
 pub use stats::{LegStats, PlanPhase, PlanStats, Progress};
-pub use validator::{PlanViolation, validate_plan};
+pub use validator::{PlanViolation, validate_plan, validate_rest};

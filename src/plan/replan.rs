@@ -48,6 +48,9 @@ use crate::world::Voxel;
 pub struct Replanned {
     /// The survivors' mission.
     pub mission: Mission,
+    /// Where in `mission.legs()` the plan starts (the replanned leg, counted in
+    /// the survivors' mission): what `plan::validate_rest` checks it from.
+    pub from_leg: usize,
     /// Their plan from where they are, leg by leg, to their pads.
     pub solution: Solution,
 }
@@ -136,6 +139,7 @@ pub fn replan_with_progress(
     let solution = solve_from(&rest, from_rest_leg, at, options, progress)?;
     Ok(Replanned {
         mission: rest,
+        from_leg: from_rest_leg,
         solution,
     })
 }
@@ -176,7 +180,7 @@ fn check_survivors(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plan::{DiscretePlan, solve};
+    use crate::plan::{DiscretePlan, PlanViolation, solve};
 
     fn formation_change() -> Mission {
         crate::mission::load(std::path::Path::new(concat!(
@@ -276,6 +280,25 @@ mod tests {
         assert!(taken.iter().all(|v| blue.goals.contains(v)), "{taken:?}");
         taken.dedup();
         assert_eq!(taken.len(), blue.drones.len() - 1, "distinct goals");
+
+        // The independent checker takes it against the survivors' mission...
+        let check = |plan: &DiscretePlan| {
+            crate::plan::validate_rest(&re.mission, re.from_leg, &survivors, plan)
+        };
+        assert_eq!(check(rest), Ok(()));
+        // ...and refuses a path that starts elsewhere or enters b1's column.
+        let mut moved = rest.clone();
+        moved.drones[0].path[0] = lost_at;
+        let violations = check(&moved).expect_err("refused");
+        assert!(
+            violations
+                .iter()
+                .any(|v| matches!(v, PlanViolation::WrongStart { .. }))
+                && violations
+                    .iter()
+                    .any(|v| matches!(v, PlanViolation::NotFree { .. })),
+            "{violations:?}"
+        );
     }
 
     /// A live state that does not fit the mission is refused naming the drone.

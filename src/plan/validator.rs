@@ -4,7 +4,7 @@
 //! bug in one is not silently repeated in the other.
 
 use super::discrete_plan::{DiscretePlan, DronePlan};
-use crate::mission::Mission;
+use crate::mission::{Drone, Mission};
 use crate::world::Voxel;
 use std::collections::{HashMap, HashSet};
 
@@ -38,16 +38,20 @@ pub enum PlanViolation {
         /// `makespan_steps + 1`.
         expected: usize,
     },
-    /// A path that does not start above the drone's pad.
-    #[error("drone {id:?}: path starts at {found} instead of above its pad, {expected}")]
+    /// A path that does not start where the drone is: above its pad, or for the
+    /// rest of a flight where the replan found it.
+    #[error("drone {id:?}: path starts at {found} instead of {expected} (where it is)")]
     WrongStart {
         /// The drone.
         id: String,
-        /// Its start in the mission.
+        /// Where it is: the pad-layer cell above its pad, or its live voxel.
         expected: Voxel,
         /// The path's first voxel.
         found: Voxel,
     },
+    /// The rest of a flight plans a drone no live start was given for.
+    #[error("drone {0:?}: planned, but no start was given for it")]
+    NoStart(String),
     /// The plan's legs are not the mission's (names, order, holds or steps).
     #[error("the plan's legs do not match the mission's: {0}")]
     Legs(String),
@@ -155,6 +159,32 @@ pub enum PlanViolation {
 
 /// Every way `plan` breaks `mission`; empty means the plan is valid.
 pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<PlanViolation>> {
+    check(mission, 0, &|drone: &Drone| Some(drone.pad_voxel()), plan)
+}
+
+/// Every way `plan`, the rest of a flight from leg `from_leg` of `mission` (an
+/// index into `Mission::legs`), breaks it, each drone starting where `starts` (id,
+/// voxel) puts it — a replan's plan against the survivors' mission it was planned
+/// in (`plan::Replanned`). A drone of the mission missing from `starts` is
+/// reported as a wrong start. Empty means the plan is valid.
+pub fn validate_rest(
+    mission: &Mission,
+    from_leg: usize,
+    starts: &[(&str, Voxel)],
+    plan: &DiscretePlan,
+) -> Result<(), Vec<PlanViolation>> {
+    let start_of = |drone: &Drone| starts.iter().find(|s| s.0 == drone.id).map(|s| s.1);
+    check(mission, from_leg, &start_of, plan)
+}
+
+/// The checks of [`validate_plan`] and [`validate_rest`], each drone's path
+/// starting at `start_of` it (`None`: no start is acceptable).
+fn check(
+    mission: &Mission,
+    from_leg: usize,
+    start_of: &dyn Fn(&Drone) -> Option<Voxel>,
+    plan: &DiscretePlan,
+) -> Result<(), Vec<PlanViolation>> {
     let mut violations = Vec::new();
     let expected_len = plan.makespan_steps as usize + 1;
 
@@ -165,7 +195,7 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
                 &drone.id,
                 Owner {
                     group: &group.name,
-                    pad: Voxel::new(drone.pad[0], drone.pad[1], -1),
+                    start: start_of(drone),
                     at: (gi, di),
                 },
             );
@@ -202,7 +232,7 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
             }
         }
     }
-    legs(mission, plan, &owners, &mut violations);
+    legs(mission, from_leg, plan, &owners, &mut violations);
 
     // Collisions, step by step, over paths of the common length.
     let common: Vec<_> = plan
@@ -238,8 +268,9 @@ pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<P
 /// What the mission says about one drone.
 struct Owner<'m> {
     group: &'m str,
-    /// The pad-layer cell above its pad, where its path must begin.
-    pad: Voxel,
+    /// Where its path must begin: the pad-layer cell above its pad, or where a
+    /// replan found it (`None`: nowhere given).
+    start: Option<Voxel>,
     /// Its group's and its own index in the mission.
     at: (usize, usize),
 }
@@ -250,11 +281,12 @@ struct Owner<'m> {
 /// targets may depend on where the previous leg left it).
 fn legs(
     mission: &Mission,
+    from_leg: usize,
     plan: &DiscretePlan,
     owners: &HashMap<&str, Owner>,
     violations: &mut Vec<PlanViolation>,
 ) {
-    let wanted = mission.legs();
+    let wanted: Vec<_> = mission.legs().into_iter().skip(from_leg).collect();
     let names = |v: Vec<&str>| v.join(", ");
     if wanted.len() != plan.legs.len()
         || wanted
@@ -353,12 +385,16 @@ fn path(
     let (Some(&first), Some(&last)) = (d.path.first(), d.path.last()) else {
         return None;
     };
-    if first != owner.pad {
-        violations.push(PlanViolation::WrongStart {
-            id: id.clone(),
-            expected: owner.pad,
-            found: first,
-        });
+    match owner.start {
+        None => violations.push(PlanViolation::NoStart(id.clone())),
+        Some(expected) if first != expected => {
+            violations.push(PlanViolation::WrongStart {
+                id: id.clone(),
+                expected,
+                found: first,
+            });
+        }
+        Some(_) => {}
     }
     if last != d.goal {
         violations.push(PlanViolation::MissesGoal {
