@@ -293,7 +293,7 @@ mod tests {
         assert!(
             violations
                 .iter()
-                .any(|v| matches!(v, PlanViolation::WrongStart { .. }))
+                .any(|v| matches!(v, PlanViolation::WrongLiveStart { .. }))
                 && violations
                     .iter()
                     .any(|v| matches!(v, PlanViolation::NotFree { .. })),

@@ -38,13 +38,23 @@ pub enum PlanViolation {
         /// `makespan_steps + 1`.
         expected: usize,
     },
-    /// A path that does not start where the drone is: above its pad, or for the
-    /// rest of a flight where the replan found it.
-    #[error("drone {id:?}: path starts at {found} instead of {expected} (where it is)")]
+    /// A path that does not start above the drone's pad.
+    #[error("drone {id:?}: path starts at {found} instead of above its pad, {expected}")]
     WrongStart {
         /// The drone.
         id: String,
-        /// Where it is: the pad-layer cell above its pad, or its live voxel.
+        /// Its start in the mission.
+        expected: Voxel,
+        /// The path's first voxel.
+        found: Voxel,
+    },
+    /// The rest of a flight has a path that does not start where the replan found
+    /// the drone.
+    #[error("drone {id:?}: path starts at {found} instead of where the drone is, {expected}")]
+    WrongLiveStart {
+        /// The drone.
+        id: String,
+        /// Its live voxel.
         expected: Voxel,
         /// The path's first voxel.
         found: Voxel,
@@ -159,7 +169,8 @@ pub enum PlanViolation {
 
 /// Every way `plan` breaks `mission`; empty means the plan is valid.
 pub fn validate_plan(mission: &Mission, plan: &DiscretePlan) -> Result<(), Vec<PlanViolation>> {
-    check(mission, 0, &|drone: &Drone| Some(drone.pad_voxel()), plan)
+    let pad = |drone: &Drone| Some(Start::Pad(drone.pad_voxel()));
+    check(mission, 0, &pad, plan)
 }
 
 /// Every way `plan`, the rest of a flight from leg `from_leg` of `mission` (an
@@ -173,7 +184,10 @@ pub fn validate_rest(
     starts: &[(&str, Voxel)],
     plan: &DiscretePlan,
 ) -> Result<(), Vec<PlanViolation>> {
-    let start_of = |drone: &Drone| starts.iter().find(|s| s.0 == drone.id).map(|s| s.1);
+    let start_of = |drone: &Drone| {
+        let live = starts.iter().find(|s| s.0 == drone.id);
+        live.map(|s| Start::Live(s.1))
+    };
     check(mission, from_leg, &start_of, plan)
 }
 
@@ -182,7 +196,7 @@ pub fn validate_rest(
 fn check(
     mission: &Mission,
     from_leg: usize,
-    start_of: &dyn Fn(&Drone) -> Option<Voxel>,
+    start_of: &dyn Fn(&Drone) -> Option<Start>,
     plan: &DiscretePlan,
 ) -> Result<(), Vec<PlanViolation>> {
     let mut violations = Vec::new();
@@ -266,11 +280,19 @@ fn check(
 }
 
 /// What the mission says about one drone.
+/// Where a drone's path must begin.
+#[derive(Clone, Copy)]
+enum Start {
+    /// The pad-layer cell above its pad.
+    Pad(Voxel),
+    /// Where a replan found it.
+    Live(Voxel),
+}
+
 struct Owner<'m> {
     group: &'m str,
-    /// Where its path must begin: the pad-layer cell above its pad, or where a
-    /// replan found it (`None`: nowhere given).
-    start: Option<Voxel>,
+    /// Where its path must begin (`None`: nowhere given).
+    start: Option<Start>,
     /// Its group's and its own index in the mission.
     at: (usize, usize),
 }
@@ -387,8 +409,15 @@ fn path(
     };
     match owner.start {
         None => violations.push(PlanViolation::NoStart(id.clone())),
-        Some(expected) if first != expected => {
+        Some(Start::Pad(expected)) if first != expected => {
             violations.push(PlanViolation::WrongStart {
+                id: id.clone(),
+                expected,
+                found: first,
+            });
+        }
+        Some(Start::Live(expected)) if first != expected => {
+            violations.push(PlanViolation::WrongLiveStart {
                 id: id.clone(),
                 expected,
                 found: first,
