@@ -11,6 +11,7 @@
 use crate::HarnessError;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
+use swarmctl::fly::replan::ReplanOptions;
 use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError};
 use swarmctl::mission::Mission;
 use swarmctl::plan::DiscretePlan;
@@ -28,6 +29,18 @@ pub enum Expect {
         /// Id of the drone whose link is lost.
         drone: &'static str,
     },
+    /// `drone` is reported lost, the survivors are replanned without it, reach the
+    /// goals left to them and land (`completed`).
+    Replanned {
+        /// Id of the drone whose link is lost.
+        drone: &'static str,
+    },
+    /// `drone` is reported lost and the replan falls back (says why): its
+    /// dependants hold, the rest finish and land.
+    FallsBack {
+        /// Id of the drone whose link is lost.
+        drone: &'static str,
+    },
     /// `drone` leaves the plan early and lands; everybody else finishes and lands.
     Retires {
         /// Id of the drone that retires.
@@ -42,6 +55,14 @@ impl Expect {
             Expect::AbortsOnGround => "refused before takeoff, nobody airborne".into(),
             Expect::Lost { drone } => {
                 format!("{drone} reported lost, dependents hold, the rest finish")
+            }
+            Expect::Replanned { drone } => {
+                format!("{drone} reported lost, the rest replanned without it, completed")
+            }
+            Expect::FallsBack { drone } => {
+                format!(
+                    "{drone} reported lost, replan falls back: dependents hold, the rest finish"
+                )
             }
             Expect::Retires { drone } => {
                 format!("{drone} leaves the plan and lands, the rest finish")
@@ -61,6 +82,8 @@ pub struct Scenario {
     pub flavour: Flavour,
     /// The behaviour swarmctl promises under these faults.
     pub expect: Expect,
+    /// How the flight replans when drones leave it (`fly --replan-deadline`).
+    pub replan: ReplanOptions,
 }
 
 impl Scenario {
@@ -70,6 +93,7 @@ impl Scenario {
             faults: faults.to_vec(),
             flavour: Flavour::Px4,
             expect,
+            replan: ReplanOptions::default(),
         }
     }
 }
@@ -99,13 +123,24 @@ pub fn scenarios(reduced: bool) -> Vec<Scenario> {
         Scenario::new(
             "b1 lost for good",
             &["lose=b1@5s"],
-            Expect::Lost { drone: "b1" },
+            Expect::Replanned { drone: "b1" },
         ),
         Scenario::new(
             "b1 crashes (falls, silent)",
             &["crash=b1@5s"],
-            Expect::Lost { drone: "b1" },
+            Expect::Replanned { drone: "b1" },
         ),
+        Scenario {
+            replan: ReplanOptions {
+                deadline: Duration::ZERO,
+                ..ReplanOptions::default()
+            },
+            ..Scenario::new(
+                "b1 lost, no time to replan (`--replan-deadline 0`)",
+                &["lose=b1@5s"],
+                Expect::FallsBack { drone: "b1" },
+            )
+        },
         Scenario::new(
             "r2 refuses to arm",
             &["refuse-arm=r2"],
@@ -134,6 +169,7 @@ pub fn scenarios(reduced: bool) -> Vec<Scenario> {
             "duplicated 20% + reordered 20%",
             "b1 lost for good",
             "b1 crashes (falls, silent)",
+            "b1 lost, no time to replan (`--replan-deadline 0`)",
             "r1 low battery",
             "r1 critical battery (autopilot lands it)",
         ];
@@ -183,7 +219,8 @@ pub async fn run_scenario(
         .collect::<Result<_, _>>()?;
     let configs = crate::bundled_sitl::vehicle_configs(mission, plan, scenario.flavour, &faults)?;
     let (swarm, links) = crate::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
-    let options = crate::bundled_sitl::fly_options(links);
+    let mut options = crate::bundled_sitl::fly_options(links);
+    options.replan = scenario.replan;
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let started = std::time::Instant::now();
     let done = AtomicBool::new(false);
@@ -300,6 +337,37 @@ fn expectation_failures(
                 failures.push(format!("lost {:?}, expected [{drone}]", log.summary.lost));
             }
         }
+        (Expect::Replanned { drone }, Some(log)) => {
+            let s = &log.summary;
+            if s.lost != [drone.to_string()] {
+                failures.push(format!("lost {:?}, expected [{drone}]", s.lost));
+            }
+            let spliced: Vec<_> = s.replans.iter().filter(|r| r.fallback.is_none()).collect();
+            if spliced.len() != 1 || spliced[0].left_out != [drone.to_string()] {
+                failures.push(format!(
+                    "expected one replan without {drone}: {:?}",
+                    s.replans
+                ));
+            }
+            if !s.completed {
+                failures.push("the survivors did not complete the replanned flight".into());
+            }
+        }
+        (Expect::FallsBack { drone }, Some(log)) => {
+            let s = &log.summary;
+            if s.lost != [drone.to_string()] {
+                failures.push(format!("lost {:?}, expected [{drone}]", s.lost));
+            }
+            if !s.replans.iter().all(|r| r.fallback.is_some()) || s.replans.is_empty() {
+                failures.push(format!(
+                    "expected a replan that falls back: {:?}",
+                    s.replans
+                ));
+            }
+            if s.completed {
+                failures.push("completed although the replan fell back".into());
+            }
+        }
         (Expect::Retires { drone }, Some(log)) => {
             if log.summary.retired != [drone.to_string()] {
                 failures.push(format!(
@@ -372,6 +440,18 @@ fn describe_log(log: &FlightLog) -> String {
     }
     if !s.handed_over.is_empty() {
         parts.push(format!("handed over {}", s.handed_over.join(",")));
+    }
+    for r in &s.replans {
+        parts.push(match (&r.fallback, r.new_makespan_s) {
+            (None, Some(new_s)) => format!(
+                "replanned without {} in {:.1} ms (flying {:.2} s after the loss; new plan {:.1} s)",
+                r.left_out.join(","),
+                1e3 * r.planning_s,
+                r.latency_s,
+                new_s
+            ),
+            (why, _) => format!("no replan ({})", why.as_deref().unwrap_or("no plan")),
+        });
     }
     let losses: usize = log.drones.iter().map(|d| d.link_losses).sum();
     if losses > 0 {

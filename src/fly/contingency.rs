@@ -139,6 +139,14 @@ pub fn track_lost(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<Lo
                 ));
                 d.mark_lost();
             }
+            Phase::Lost { .. } if !d.link_lost() && !d.telemetry_stale() && d.left_plan() => {
+                events.push(LogEvent::new(
+                    since_arm_s,
+                    Some(d.id()),
+                    "heard again after the swarm was replanned without it: it holds and lands where it is once its column is clear",
+                ));
+                d.land_out_of_plan();
+            }
             Phase::Lost { .. } if !d.link_lost() && !d.telemetry_stale() => {
                 events.push(LogEvent::new(
                     since_arm_s,
@@ -289,9 +297,10 @@ pub fn release_landed(
 /// True when no further progress is possible: a drone is lost (or failed in
 /// flight) and every other one is done, retired, or at rest at a closed gate.
 pub fn plan_stuck(drones: &[DroneRun]) -> bool {
+    // One a replan left out holds nobody up any more.
     let someone_missing = drones
         .iter()
-        .any(|d| matches!(d.phase(), Phase::Lost { .. } | Phase::Failed(_)));
+        .any(|d| !d.left_plan() && matches!(d.phase(), Phase::Lost { .. } | Phase::Failed(_)));
     someone_missing
         && drones.iter().all(|d| match d.phase() {
             Phase::Flying => d.follower().at_rest() && d.follower().hold == Hold::Gate,

@@ -9,6 +9,7 @@ use super::gate::Progress;
 use super::log::LogEvent;
 use super::observer::FlightObserver;
 use super::phase::Phase;
+use super::replan::Replanner;
 use super::settings::LoopSettings;
 use super::tap::Tap;
 use std::sync::Arc;
@@ -37,6 +38,8 @@ pub struct Outcome {
     pub fastest: Option<(String, f64)>,
     /// Everything notable, in order, for the flight log.
     pub events: Vec<LogEvent>,
+    /// Every replan tried (see `fly::replan`).
+    pub replans: Vec<super::log::ReplanRecord>,
 }
 
 /// The loop's swarm-wide state between ticks.
@@ -44,8 +47,12 @@ struct Flight<'a> {
     drones: &'a mut [DroneRun],
     settings: LoopSettings,
     out: Outcome,
-    /// When the plan clock started (every drone at its start).
+    /// When plan execution started (every drone at its start).
     execution_t0: Option<Instant>,
+    /// When the plan being flown started: `execution_t0`, or the last splice.
+    plan_t0: Option<Instant>,
+    /// Replans the rest of the flight when drones leave it.
+    replanner: Replanner,
     /// Abort, timeout or a failure before the plan: every drone holds, then lands.
     aborting: bool,
     landing_started: bool,
@@ -62,12 +69,13 @@ pub async fn run(
     mut abort: tokio::sync::watch::Receiver<bool>,
     observers: &[Arc<dyn FlightObserver>],
     mut inbox: CommandInbox,
+    replanner: Replanner,
 ) -> Outcome {
     let dt_s = 1.0 / settings.setpoint_rate_hz;
     let mut tick = tokio::time::interval(Duration::from_secs_f64(dt_s));
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let mut tap = Tap::new(drones.len());
-    let mut flight = Flight::new(drones, settings);
+    let mut flight = Flight::new(drones, settings, replanner);
     loop {
         tick.tick().await;
         let now = Instant::now();
@@ -80,10 +88,13 @@ pub async fn run(
         let t_exec_s = flight
             .execution_t0
             .map(|t0| now.duration_since(t0).as_secs_f64());
-        if let Some(t_s) = t_exec_s {
-            flight.contingencies(since_arm_s);
+        if let Some(t0) = flight.plan_t0 {
+            flight.contingencies(now.duration_since(t0).as_secs_f64(), now, since_arm_s);
+        }
+        // A splice above restarts the plan clock.
+        if let Some(t0) = flight.plan_t0 {
             // Gates first (from everyone's progress), then commanded motion.
-            flight.step_plan(t_s, dt_s);
+            flight.step_plan(now.duration_since(t0).as_secs_f64(), dt_s);
         }
         flight.deliver(&mut inbox);
         for d in flight.drones.iter_mut() {
@@ -98,9 +109,8 @@ pub async fn run(
         }
         flight.start_plan_clock(now, since_arm_s);
         flight.end_plan(now, t_exec_s, since_arm_s);
-        if flight.landing_started {
-            flight.start_landings(since_arm_s);
-        }
+        // Also before the plan ends: a drone a replan left out lands on its own.
+        flight.start_landings(since_arm_s);
         if !observers.is_empty() {
             tap.forward(observers, flight.drones, armed_at, &flight.out.events);
         }
@@ -116,11 +126,12 @@ pub async fn run(
             break;
         }
     }
+    flight.out.replans = std::mem::take(&mut flight.replanner.records);
     flight.out
 }
 
 impl<'a> Flight<'a> {
-    fn new(drones: &'a mut [DroneRun], settings: LoopSettings) -> Self {
+    fn new(drones: &'a mut [DroneRun], settings: LoopSettings, replanner: Replanner) -> Self {
         Self {
             drones,
             settings,
@@ -129,6 +140,8 @@ impl<'a> Flight<'a> {
                 ..Outcome::default()
             },
             execution_t0: None,
+            plan_t0: None,
+            replanner,
             aborting: false,
             landing_started: false,
             stuck_since: None,
@@ -155,7 +168,7 @@ impl<'a> Flight<'a> {
             );
             return;
         }
-        let Some(t0) = self.execution_t0 else {
+        let Some(t0) = self.plan_t0 else {
             if let Some(d) = self
                 .drones
                 .iter()
@@ -193,8 +206,9 @@ impl<'a> Flight<'a> {
         }
     }
 
-    /// Lost drones, retirements and released events (plan clock running).
-    fn contingencies(&mut self, since_arm_s: f64) {
+    /// Lost drones, retirements, released events and replans, at `t_s` on the
+    /// plan clock.
+    fn contingencies(&mut self, t_s: f64, now: Instant, since_arm_s: f64) {
         let events = &mut self.out.events;
         contingency::track_lost(self.drones, since_arm_s, events);
         if !self.landing_started {
@@ -207,6 +221,13 @@ impl<'a> Flight<'a> {
             events,
         );
         contingency::release_landed(self.drones, self.settings.ground_clear, since_arm_s, events);
+        if self.aborting || self.landing_started {
+            self.replanner.abandon(since_arm_s, events);
+        } else if let Some(spliced) = self.replanner.tick(self.drones, t_s, since_arm_s, events) {
+            self.plan_t0 = Some(now);
+            self.settings.execution_timeout_s = self.settings.timeout_factor * spliced.makespan_s
+                + super::settings::TIMEOUT_MARGIN_S;
+        }
     }
 
     /// Observed progress, gates and commanded motion of every flying drone.
@@ -216,8 +237,9 @@ impl<'a> Flight<'a> {
         }
         let progress: Vec<Progress> = self.drones.iter().map(|d| d.progress().clone()).collect();
         let d_m = self.settings.safety_distance_m;
+        let frozen = self.replanner.busy();
         let paused: Vec<bool> = (0..self.drones.len())
-            .map(|i| contingency::paused_for(self.drones, i, d_m))
+            .map(|i| frozen || contingency::paused_for(self.drones, i, d_m))
             .collect();
         for (d, swarm_paused) in self.drones.iter_mut().zip(paused) {
             let tick = SwarmTick {
@@ -251,6 +273,7 @@ impl<'a> Flight<'a> {
             return;
         }
         self.execution_t0 = Some(now);
+        self.plan_t0 = Some(now);
         for d in self.drones.iter_mut() {
             d.start_plan();
         }
@@ -261,13 +284,14 @@ impl<'a> Flight<'a> {
     /// plan is stuck, or an abort has everyone holding: every drone queues to land.
     fn end_plan(&mut self, now: Instant, t_exec_s: Option<f64>, since_arm_s: f64) {
         let at_goal = |d: &DroneRun| matches!(d.phase(), Phase::AtGoal);
-        let all_at_goal = self.drones.iter().all(at_goal);
+        // A drone a replan left out is no longer in the plan to finish.
+        let all_at_goal = self.drones.iter().any(at_goal)
+            && self.drones.iter().all(|d| at_goal(d) || d.left_plan());
         // Retired drones that are down count as done: the others finished without them.
         let plan_done = self.drones.iter().any(at_goal)
-            && self
-                .drones
-                .iter()
-                .all(|d| at_goal(d) || (d.released() && matches!(d.phase(), Phase::Landed)));
+            && self.drones.iter().all(|d| {
+                at_goal(d) || d.left_plan() || (d.released() && matches!(d.phase(), Phase::Landed))
+            });
         if all_at_goal && !self.landing_started {
             self.out.completed = true;
             self.out.executed_makespan_s = t_exec_s;
@@ -276,7 +300,9 @@ impl<'a> Flight<'a> {
             .drones
             .iter()
             .all(|d| !matches!(d.phase(), Phase::Flying) || d.follower().at_rest());
-        self.stuck_since = match (self.stuck_since, contingency::plan_stuck(self.drones)) {
+        // Everyone holds during a replan: that is not stuck.
+        let stuck_now = !self.replanner.busy() && contingency::plan_stuck(self.drones);
+        self.stuck_since = match (self.stuck_since, stuck_now) {
             (_, false) => None,
             (None, true) => Some(now),
             (Some(t), true) => Some(t),
@@ -290,9 +316,9 @@ impl<'a> Flight<'a> {
                 "the plan cannot finish without the missing drones: the others land where they are, each once its column is clear",
             );
         }
-        if !self.landing_started
-            && (all_at_goal || plan_done || stuck || (self.aborting && all_holding))
-        {
+        // A replan under way decides what is left to fly first.
+        let done = !self.replanner.busy() && (all_at_goal || plan_done || stuck);
+        if !self.landing_started && (done || (self.aborting && all_holding)) {
             self.landing_started = true;
             for d in self.drones.iter_mut() {
                 d.prepare_landing();

@@ -114,6 +114,12 @@ impl Follower {
         }
     }
 
+    /// A follower with the same limits and lead, at rest at the start of a new
+    /// route (a replan's).
+    pub fn restarted(&self) -> Self {
+        Self::new(self.limits, self.accel_lead_s)
+    }
+
     /// The kinematic limits it keeps.
     pub fn limits(&self) -> Kinematics {
         self.limits

@@ -167,6 +167,10 @@ mod tests {
     #[test]
     fn a_corner_cut_inside_the_settle_tolerance_still_counts() {
         let event = |arc_m: f64| RouteEvent {
+            kind: crate::schedule::EventKind::Arrive,
+            voxel: crate::world::Voxel::new(0, 0, 0),
+            step: 0,
+            position_m: [arc_m, 0.0, 0.0],
             arc_m,
             reach_s: 0.0,
             after: Vec::new(),
@@ -194,6 +198,10 @@ mod tests {
     fn a_hold_keeps_the_gate_closed_until_it_has_passed_since_the_last_arrival() {
         let other = EventId { drone: 1, index: 0 };
         let r = route(vec![RouteEvent {
+            kind: crate::schedule::EventKind::Start,
+            voxel: crate::world::Voxel::new(0, 0, 0),
+            step: 0,
+            position_m: [0.0; 3],
             arc_m: 0.0,
             reach_s: 0.0,
             after: vec![other],

@@ -29,6 +29,9 @@ pub struct FlightLog {
 pub struct Summary {
     /// Every drone flew its plan to its pad and landed, the measured separation
     /// never fell below the safety distance, and no drone broke the speed limit.
+    /// After a replan "every drone" is every drone still in the plan: the
+    /// survivors reached the goals left to them and landed (see `replans`; a lost
+    /// drone is still listed in `lost`).
     pub completed: bool,
     /// The measured separation never fell below the safety distance.
     #[serde(default)]
@@ -90,6 +93,55 @@ pub struct Summary {
     /// Drones that could not land safely and were left in the autopilot's hold.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub handed_over: Vec<String>,
+    /// Every replan tried in flight (see `fly::replan`), in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub replans: Vec<ReplanRecord>,
+}
+
+impl ReplanRecord {
+    /// Its line in the summary `swarmctl fly` prints.
+    pub fn line(&self) -> String {
+        let r = self;
+        match (&r.fallback, r.new_makespan_s) {
+            (None, Some(new_s)) => format!(
+                "  replanned            at {:.1} s without {}: new plan {:.1} s (old {:.1} s), planned in {:.1} ms, flying {:.2} s after the loss was noticed",
+                r.at_s,
+                r.left_out.join(", "),
+                new_s,
+                r.old_makespan_s,
+                1e3 * r.planning_s,
+                r.latency_s
+            ),
+            (why, _) => format!(
+                "  NOT replanned        at {:.1} s without {}: {}",
+                r.at_s,
+                r.why,
+                why.as_deref().unwrap_or("no plan")
+            ),
+        }
+    }
+}
+
+/// One replan in flight: when and why, how long it took, and what came of it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReplanRecord {
+    /// When the loss or retirement was noticed, seconds since the first arm command.
+    pub at_s: f64,
+    /// Who left the plan and why ("b1 (lost)").
+    pub why: String,
+    /// Drones the new plan flies without (empty when none was spliced).
+    pub left_out: Vec<String>,
+    /// Planning, the independent check and scheduling, seconds.
+    pub planning_s: f64,
+    /// From the loss being noticed to the new plan executing (the freeze and the
+    /// planning), or to the fallback, seconds.
+    pub latency_s: f64,
+    /// The makespan of the plan being flown before, seconds.
+    pub old_makespan_s: f64,
+    /// The new plan's makespan from the splice, seconds; `None` without one.
+    pub new_makespan_s: Option<f64>,
+    /// Why the flight fell back to holding the dependants; `None` when spliced.
+    pub fallback: Option<String>,
 }
 
 /// One drone's record: which vehicle flew it, how close it got, how long it
@@ -260,6 +312,7 @@ impl Summary {
                 self.max_final_distance_to_goal_m
             ),
         ];
+        lines.extend(self.replans.iter().map(ReplanRecord::line));
         for (label, ids) in [
             ("LOST", &self.lost),
             ("retired early", &self.retired),
@@ -302,6 +355,7 @@ mod tests {
             lost: Vec::new(),
             retired: Vec::new(),
             handed_over: Vec::new(),
+            replans: Vec::new(),
         }
     }
 
@@ -330,5 +384,40 @@ mod tests {
         assert!(back.min_separation_m.is_infinite());
         let json = serde_json::to_string(&summary(0.5)).expect("serialises");
         assert!(json.contains("\"min_separation_m\":0.5"), "{json}");
+    }
+
+    #[test]
+    fn replans_are_in_the_summary_with_their_outcome() {
+        let mut s = summary(0.9);
+        let record = |fallback: Option<&str>| ReplanRecord {
+            at_s: 17.4,
+            why: "b1 (lost)".into(),
+            left_out: if fallback.is_none() {
+                vec!["b1".into()]
+            } else {
+                Vec::new()
+            },
+            planning_s: 0.0042,
+            latency_s: 1.4,
+            old_makespan_s: 39.8,
+            new_makespan_s: fallback.is_none().then_some(31.5),
+            fallback: fallback.map(String::from),
+        };
+        s.replans = vec![
+            record(None),
+            record(Some("planning took 3.20 s, over the 3.0 s deadline")),
+        ];
+        let text = s.lines().join("\n");
+        assert!(
+            text.contains("replanned            at 17.4 s without b1: new plan 31.5 s (old 39.8 s), planned in 4.2 ms, flying 1.40 s after the loss was noticed"),
+            "{text}"
+        );
+        assert!(
+            text.contains("NOT replanned        at 17.4 s without b1 (lost): planning took 3.20 s"),
+            "{text}"
+        );
+        let json = serde_json::to_string(&s).expect("serialises");
+        let back: Summary = serde_json::from_str(&json).expect("reads back");
+        assert_eq!(back.replans, s.replans);
     }
 }

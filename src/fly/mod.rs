@@ -18,6 +18,7 @@ pub mod error;
 pub mod executor;
 pub mod faults;
 pub mod follower;
+pub mod freeze;
 pub mod gate;
 pub mod log;
 pub mod observer;
@@ -25,14 +26,16 @@ pub mod path;
 pub mod phase;
 pub mod placement;
 pub mod preflight;
+pub mod replan;
 pub mod report;
 pub mod settings;
+pub mod splice;
 pub mod tap;
 pub mod vehicle_limits;
 
 pub use error::FlyError;
 pub use faults::{FaultSpec, parse_fault};
-pub use log::{DroneLog, FlightLog, Summary};
+pub use log::{DroneLog, FlightLog, ReplanRecord, Summary};
 pub use observer::{DroneStatus, FlightObserver, FlightStatus};
 pub use placement::FrameSource;
 
@@ -108,11 +111,20 @@ pub async fn fly(
         limits: commanded.kinematics(),
         tracking_error_m: l.tracking_error_m,
         settle_tolerance_m: settle_tolerance_m(options.settle_tolerance_m, l.tracking_error_m),
-        execution_timeout_s: options.timeout_factor * planned_makespan_s + 30.0,
+        execution_timeout_s: options.timeout_factor * planned_makespan_s
+            + settings::TIMEOUT_MARGIN_S,
+        timeout_factor: options.timeout_factor,
         safety_distance_m: l.safety_distance_m,
         // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
         ground_clear: mission.pad_height_m() >= l.safety_distance_m,
     };
+    let replanner = replan::Replanner::new(
+        options.replan,
+        mission.clone(),
+        plan.clone(),
+        planned_makespan_s,
+        drones.len(),
+    );
     let outcome = executor::run(
         &mut drones,
         settings,
@@ -120,6 +132,7 @@ pub async fn fly(
         abort,
         &options.observers,
         inbox,
+        replanner,
     )
     .await;
     let duration_s = armed_at.elapsed().as_secs_f64();

@@ -46,6 +46,8 @@ pub struct FlyOptions {
     pub observers: Vec<Arc<dyn FlightObserver>>,
     /// MAVLink 2 signing key shared with the vehicles; `None` flies unsigned.
     pub signing_key: Option<SigningKey>,
+    /// Whether and how the rest of the flight is replanned when drones leave it.
+    pub replan: super::replan::ReplanOptions,
 }
 
 impl std::fmt::Debug for FlyOptions {
@@ -61,6 +63,7 @@ impl std::fmt::Debug for FlyOptions {
             .field("command_policy", &self.command_policy)
             .field("observers", &self.observers.len())
             .field("signing_key", &self.signing_key)
+            .field("replan", &self.replan)
             .finish()
     }
 }
@@ -68,7 +71,7 @@ impl std::fmt::Debug for FlyOptions {
 impl FlyOptions {
     /// Defaults for a calm link: 5 s for the first heartbeat, per-vehicle frames,
     /// 0.3 m start tolerance, 10 cm settle tolerance, 4 × makespan timeout, no observers,
-    /// unsigned.
+    /// unsigned, replanning on (see `ReplanOptions::default`).
     pub fn new(vehicles: Vec<VehicleLink>) -> Self {
         Self {
             vehicles,
@@ -81,6 +84,7 @@ impl FlyOptions {
             command_policy: CommandPolicy::default(),
             observers: Vec::new(),
             signing_key: None,
+            replan: super::replan::ReplanOptions::default(),
         }
     }
 }

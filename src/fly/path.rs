@@ -6,8 +6,9 @@
 //! "has the drone passed this event?" into a comparison of two numbers, which is
 //! what the gating needs.
 
-use crate::schedule::{EventId, ExecutionDrone};
+use crate::schedule::{EventId, EventKind, ExecutionDrone};
 use crate::trajectory::{DroneTrajectory, Profile};
+use crate::world::Voxel;
 
 /// One straight run of the route (ENU metres).
 #[derive(Debug, Clone, PartialEq)]
@@ -54,6 +55,15 @@ impl RouteRun {
 /// One TPG event placed on the route.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RouteEvent {
+    /// Start, marker or arrival: where a drone may stop and what it holds there
+    /// (see `fly::replan`).
+    pub kind: EventKind,
+    /// The voxel the event is about (as in the TPG).
+    pub voxel: Voxel,
+    /// The discrete step at which the move containing the event ends.
+    pub step: u32,
+    /// Where the event lies, ENU metres.
+    pub position_m: [f64; 3],
     /// Arc length along the route where the event lies, metres.
     pub arc_m: f64,
     /// When the schedule reaches it, seconds on the plan clock (for the status view).
@@ -102,6 +112,10 @@ impl Route {
             .events
             .iter()
             .map(|e| RouteEvent {
+                kind: e.kind,
+                voxel: e.voxel,
+                step: e.step,
+                position_m: e.position_m,
                 arc_m: event_arc_m(&runs, e.reach_s, e.position_m),
                 reach_s: e.reach_s,
                 after: e.after.clone(),

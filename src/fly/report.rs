@@ -69,7 +69,11 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
     let logs = flown.logs;
     // Held also when nothing was measured (∞): no two drones were ever heard from.
     let safety_held = outcome.min_separation_m >= flown.limits.safety_distance_m;
-    let all_landed = drones.iter().all(|d| matches!(d.phase(), Phase::Landed));
+    // A lost drone a replan flew on without is not ours to land.
+    let all_landed = drones.iter().all(|d| {
+        matches!(d.phase(), Phase::Landed)
+            || (d.left_plan() && matches!(d.phase(), Phase::Lost { .. }))
+    });
     let speed_limit_mps = flown.limits.max_speed_mps;
     let speed_held = outcome.max_speed_mps <= speed_limit_mps * (1.0 + super::log::SPEED_TOLERANCE);
     Summary {
@@ -90,6 +94,7 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
         lost: ids_where(drones, |d| matches!(d.phase(), Phase::Lost { .. })),
         retired: ids_where(drones, |d| d.retired().is_some()),
         handed_over: ids_where(drones, |d| matches!(d.phase(), Phase::HandedOver { .. })),
+        replans: outcome.replans.clone(),
         worst_tracking: logs
             .iter()
             .filter_map(|d| d.tracking_error.map(|t| (d.id.clone(), t)))

@@ -1,5 +1,8 @@
 //! The flight loop's tunables, taken from the mission and the fly options once.
 
+/// Seconds added to the scaled makespan for the execution timeout.
+pub const TIMEOUT_MARGIN_S: f64 = 30.0;
+
 /// Tunables of the loop.
 #[derive(Debug, Clone, Copy)]
 pub struct LoopSettings {
@@ -16,6 +19,9 @@ pub struct LoopSettings {
     pub settle_tolerance_m: f64,
     /// Give up on plan execution (hold, then land) after this long.
     pub execution_timeout_s: f64,
+    /// `execution_timeout_s` is this many times the makespan plus
+    /// [`TIMEOUT_MARGIN_S`] (recomputed when a replan is spliced in).
+    pub timeout_factor: f64,
     /// The mission's minimum separation: a drone descends only when no other is
     /// below it within this distance horizontally, metres.
     pub safety_distance_m: f64,

@@ -195,6 +195,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         lost: Vec::new(),
         retired: Vec::new(),
         handed_over: Vec::new(),
+        replans: Vec::new(),
     };
     let drones = plan
         .drones

@@ -63,26 +63,54 @@ async fn duplicated_and_reordered_packets_complete() {
     fly("duplicated 20% + reordered 20%").await;
 }
 
+/// b1's link goes for good 5 s after takeoff: it is reported lost, the swarm
+/// freezes at voxel centres, the survivors are replanned without it (its last
+/// voxels and their columns blocked) and complete the flight: every survivor on a
+/// goal, then landed.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_drone_lost_for_good_is_reported_and_the_rest_land() {
+async fn a_drone_lost_for_good_is_replanned_around_and_the_rest_complete() {
     let report = fly("b1 lost for good").await;
     assert!(reported(&report, "b1", "LOST"), "b1's loss is in the log");
     let log = report.log.expect("flight log");
-    // Everyone but b1 ends on the ground or, if b1 hovers below, handed over.
-    assert!(!log.summary.completed);
-    assert!(log.summary.gating_waits > 0, "somebody waited for b1");
+    assert!(log.summary.completed, "{:?}", log.summary.replans);
+    let replan = &log.summary.replans[0];
+    assert_eq!(replan.left_out, ["b1"]);
+    assert!(replan.new_makespan_s.is_some_and(|s| s > 0.0));
+    assert!(
+        log.events
+            .iter()
+            .any(|e| e.message.starts_with("replanned without b1")),
+        "the splice is in the log"
+    );
 }
 
 /// A crash is a loss that is not hovering: b1's motors stop 5 s after takeoff, it
-/// falls and never speaks again. It is reported lost, the drones that need it
-/// wait, and the rest land apart (truth: airborne pairs, the fall included).
+/// falls and never speaks again. It is reported lost, the survivors are replanned
+/// around the column it fell through, and they complete and land apart (truth:
+/// airborne pairs, the fall included).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_crashed_drone_is_reported_lost_and_the_rest_land_apart() {
+async fn a_crashed_drone_is_replanned_around_and_the_rest_land_apart() {
     let report = fly("b1 crashes (falls, silent)").await;
     assert!(reported(&report, "b1", "LOST"), "b1's loss is in the log");
     let log = report.log.expect("flight log");
-    assert!(!log.summary.completed);
+    assert!(log.summary.completed, "{:?}", log.summary.replans);
     assert_eq!(log.summary.lost, ["b1"]);
+}
+
+/// With no time to replan the flight falls back to what it did before replanning
+/// existed, and says why: b1's dependants hold, the rest finish and land.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_replan_out_of_time_falls_back_to_holding() {
+    let report = fly("b1 lost, no time to replan (`--replan-deadline 0`)").await;
+    let log = report.log.expect("flight log");
+    assert!(!log.summary.completed);
+    assert!(log.summary.gating_waits > 0, "somebody waited for b1");
+    assert!(
+        log.events
+            .iter()
+            .any(|e| e.message.starts_with("no replan without b1")),
+        "the fallback is in the log"
+    );
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

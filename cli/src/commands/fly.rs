@@ -54,6 +54,18 @@ pub struct Args {
     /// Planner deadline in seconds (when no --plan is given).
     #[arg(long, default_value_t = 60.0)]
     deadline: f64,
+    /// Seconds a replan in flight may take (after a drone is lost, or retires and
+    /// is down) while every drone holds; past it the flight falls back to holding
+    /// the lost drone's dependants while the rest finish and land.
+    #[arg(long, value_name = "SECONDS", default_value_t = 3.0)]
+    replan_deadline: f64,
+    /// Replans allowed per flight; later losses fall back.
+    #[arg(long, value_name = "COUNT", default_value_t = 3)]
+    max_replans: usize,
+    /// Never replan in flight: a lost drone's dependants hold for the rest of the
+    /// flight, the other drones finish and land.
+    #[arg(long)]
+    no_replan: bool,
     /// Print a plain status line every few seconds instead of a spinner.
     #[arg(long)]
     plain: bool,
@@ -148,6 +160,13 @@ async fn fly_async(
         anyhow::bail!("--pad-tolerance must be a positive number of metres");
     }
     options.start_tolerance_m = args.pad_tolerance;
+    options.replan = fly::replan::ReplanOptions {
+        enabled: !args.no_replan,
+        deadline: std::time::Duration::try_from_secs_f64(args.replan_deadline).map_err(|_| {
+            anyhow::anyhow!("--replan-deadline must be a non-negative number of seconds")
+        })?,
+        max_replans: args.max_replans,
+    };
     options.observers.extend(observer);
     let status = Arc::new(StatusView::new(if args.plain {
         StatusMode::Plain

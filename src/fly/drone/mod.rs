@@ -81,6 +81,8 @@ pub struct DroneRun {
     retired: Option<Retirement>,
     /// A retired drone's remaining events have been released (it is down).
     released: bool,
+    /// A replan flies on without it (lost, or retired and down).
+    left_plan: bool,
     /// No position telemetry for `TELEMETRY_STALE_S`: the follower pauses.
     telemetry_stale: bool,
     /// PX4: re-entering OFFBOARD after the vehicle left it (offboard-loss failsafe).
@@ -148,6 +150,7 @@ impl DroneRun {
             silent_s: 0.0,
             retired: None,
             released: false,
+            left_plan: false,
             telemetry_stale: false,
             resume: Request::NotSent,
             gating_waits: 0,
@@ -494,6 +497,40 @@ impl DroneRun {
     /// Its autopilot brought it down and disarmed it.
     pub fn mark_landed(&mut self) {
         self.phase = Phase::Landed;
+    }
+
+    /// Flies `route` from here on, a replan's: the old route's progress, gates and
+    /// commanded motion are gone (the follower starts at rest at the route's start,
+    /// where the freeze left it).
+    pub fn splice(&mut self, route: Route) {
+        self.route = route;
+        self.follower = self.follower.restarted();
+        self.progress = Progress::default();
+        self.passed_events = 0;
+        self.waiting_for = None;
+        self.settled_since = None;
+        if matches!(self.phase, Phase::AtGoal) {
+            self.phase = Phase::Flying;
+        }
+    }
+
+    /// A replan flies on without it.
+    pub fn leave_plan(&mut self) {
+        self.left_plan = true;
+    }
+
+    /// A replan flies on without it (lost, or retired and down).
+    pub fn left_plan(&self) -> bool {
+        self.left_plan
+    }
+
+    /// Heard again after a replan left it out: it holds where it is and lands
+    /// once its column is clear (nobody was planned into it).
+    pub fn land_out_of_plan(&mut self) {
+        if let Some(p) = self.position_m {
+            self.last_setpoint = Some(Setpoint::rest(p));
+        }
+        self.phase = Phase::AwaitLanding;
     }
 
     /// A retired drone that is down: its remaining events no longer hold anyone
