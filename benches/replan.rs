@@ -1,16 +1,29 @@
-//! Replanning latency, the planning part: the rest of a flight after a loss, from
-//! where takeoff left the drones, against planning the whole flight in the same run.
+//! Replanning latency, the computing part: the rest of a flight after a loss,
+//! against planning the whole flight in the same run.
 //!
 //! `cargo bench --bench replan` — the paper's setting (100 drones in 5 groups,
 //! 10×10×5, 150 obstacles, `swarmctl gen` seeds 1–5) and the formation change (8
-//! drones); in each, the first drone whose loss right after takeoff can be
-//! replanned is lost there and its column is blocked. Prints each replan's makespan beside the whole plan's.
+//! drones). Two cases each:
+//!
+//! - *rest after a loss*: `plan::replan` alone, from where takeoff left the drones,
+//!   the first drone whose loss there can be replanned lost and its column blocked;
+//! - *splice mid-flight*: everything the flight computes between the freeze and
+//!   the new plan executing (`fly::splice::plan_splice`: replan, independent
+//!   check, schedule, routes), with the swarm frozen half-way through the
+//!   schedule (`fly::freeze`) and the first drone whose loss there can be
+//!   replanned lost. The in-flight latency adds the braking to rest (about 1.5 s
+//!   on the formation change, see the fault matrix).
+//!
+//! Prints each replan's makespan beside the whole plan's.
 
 // A benchmark whose instance cannot be built should stop at once, loudly.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+use swarmctl::fly::freeze::{freeze_target, lost_voxels, replan_from_leg};
+use swarmctl::fly::path::Route;
+use swarmctl::fly::splice::{SpliceInput, Survivor, plan_splice};
 use swarmctl::generate::{GenerateOptions, generate};
 use swarmctl::mission::{self, Mission};
 use swarmctl::plan::{self, PlanOptions};
@@ -51,6 +64,63 @@ fn first_answerable_loss(
         }
     }
     panic!("no single loss can be replanned");
+}
+
+/// The swarm frozen half-way through the schedule of `m`'s plan, with the first
+/// drone whose loss there can be replanned lost: what `plan_splice` gets in flight.
+fn frozen_mid_flight(m: &Mission, options: &PlanOptions) -> (SpliceInput, String) {
+    let plan = plan::solve(m, options).expect("plan").plan;
+    let tpg = swarmctl::schedule::build(m, &plan).expect("tpg");
+    let timed = swarmctl::schedule::solve(&tpg).expect("schedule");
+    let trajectories = swarmctl::trajectory::from_schedule(&timed);
+    let execution = swarmctl::schedule::execution_plan(&tpg, &timed);
+    let routes: Vec<Route> = trajectories
+        .drones
+        .iter()
+        .zip(&execution.drones)
+        .map(|(t, e)| Route::new(t, e))
+        .collect();
+    let t_s = timed.makespan_s / 2.0;
+    let frozen: Vec<_> = routes
+        .iter()
+        .map(|r| {
+            let arc_m = r.scheduled_arc_m(t_s);
+            (freeze_target(r, arc_m).expect("target"), arc_m)
+        })
+        .collect();
+    for lost in 0..routes.len() {
+        let survivors: Vec<Survivor> = (0..routes.len())
+            .filter(|&i| i != lost)
+            .map(|i| Survivor {
+                id: routes[i].id.clone(),
+                run_index: i,
+                voxel: frozen[i].0.voxel,
+                rest_m: frozen[i].0.position_m,
+            })
+            .collect();
+        let arc_m = frozen[lost].1;
+        let input = SpliceInput {
+            mission: m.clone(),
+            from_leg: replan_from_leg(
+                m,
+                &plan,
+                survivors.iter().map(|s| frozen[s.run_index].0.step),
+            ),
+            survivors,
+            lost: lost_voxels(m, &routes[lost], arc_m, arc_m, None),
+            options: options.clone(),
+        };
+        if plan_splice(&input).is_ok() {
+            return (
+                input,
+                format!(
+                    "{} lost at {t_s:.1} s, {lost} earlier drones' losses have no plan",
+                    routes[lost].id
+                ),
+            );
+        }
+    }
+    panic!("no single loss mid-flight can be replanned");
 }
 
 fn replan_after_a_loss(c: &mut Criterion) {
@@ -108,6 +178,17 @@ fn replan_after_a_loss(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("rest after a loss", name), m, |b, m| {
             b.iter(|| black_box(plan::replan(m, 1, &named, &[lost], &options).unwrap()))
         });
+        let (frozen, which) = frozen_mid_flight(m, &options);
+        let splice = plan_splice(&frozen).expect("splice");
+        eprintln!(
+            "{name}: {which}; the new plan runs {:.1} s",
+            splice.makespan_s
+        );
+        group.bench_with_input(
+            BenchmarkId::new("splice mid-flight", name),
+            &frozen,
+            |b, input| b.iter(|| black_box(plan_splice(input).unwrap())),
+        );
     }
     group.finish();
 }

@@ -141,6 +141,31 @@ pub fn leg_at(mission: &Mission, plan: &DiscretePlan, step: u32) -> Option<usize
     mission.legs().iter().position(|l| l.name == leg.name)
 }
 
+/// The leg a replan starts from: the one the least advanced survivor is in (its
+/// freeze target's `step`), except that takeoff's targets (the starts) are only
+/// waypoints on the way to the first formation — a survivor already past its
+/// start would be sent back to it — so a replan during takeoff flies straight on
+/// to the formation.
+pub fn replan_from_leg(
+    mission: &Mission,
+    plan: &DiscretePlan,
+    steps: impl IntoIterator<Item = u32>,
+) -> usize {
+    use crate::mission::LegKind;
+    let least = steps
+        .into_iter()
+        .filter_map(|step| leg_at(mission, plan, step))
+        .min()
+        .unwrap_or(0);
+    let legs = mission.legs();
+    let kind = |i: usize| legs.get(i).map(|l| l.kind);
+    if kind(least) == Some(LegKind::Takeoff) && kind(least + 1) == Some(LegKind::Formation) {
+        least + 1
+    } else {
+        least
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -232,18 +257,6 @@ groups:
         );
     }
 
-    /// Arc length along `route` at scheduled time `t_s`, every drone on schedule.
-    fn scheduled_arc_m(route: &Route, t_s: f64) -> f64 {
-        route
-            .runs
-            .iter()
-            .rev()
-            .find(|r| r.scheduled_start_s <= t_s)
-            .map_or(0.0, |r| {
-                r.arc_start_m + r.profile.distance_at_m(t_s - r.scheduled_start_s)
-            })
-    }
-
     /// The freeze never puts two drones in one voxel: on the formation change
     /// (8 drones, pad to pad), stopped anywhere along the schedule every 0.1 s,
     /// every drone's freeze voxel is its own, so the centres they go to are a
@@ -273,7 +286,7 @@ groups:
             let t_s = f64::from(tenth) / 10.0;
             let mut voxels: Vec<Voxel> = Vec::new();
             for (route, drone) in routes.iter().zip(&plan.drones) {
-                let target = freeze_target(route, scheduled_arc_m(route, t_s)).expect("target");
+                let target = freeze_target(route, route.scheduled_arc_m(t_s)).expect("target");
                 assert!(
                     drone.path.contains(&target.voxel),
                     "{} at {t_s} s",

@@ -135,6 +135,19 @@ impl Route {
         self.runs.last().map_or(0.0, |r| r.arc_start_m + r.length_m)
     }
 
+    /// Arc length at plan-clock time `t_s` if every run starts when scheduled and
+    /// nobody waits: where a drone on schedule is (benchmarks and tests freeze a
+    /// swarm there).
+    pub fn scheduled_arc_m(&self, t_s: f64) -> f64 {
+        self.runs
+            .iter()
+            .rev()
+            .find(|r| r.scheduled_start_s <= t_s)
+            .map_or(0.0, |r| {
+                r.arc_start_m + r.profile.distance_at_m(t_s - r.scheduled_start_s)
+            })
+    }
+
     /// Where the route ends (the goal voxel centre).
     pub fn goal_m(&self) -> [f64; 3] {
         self.runs.last().map_or(self.start_m, |r| r.to_m)

@@ -17,7 +17,7 @@
 //! Replans are counted and capped per flight; each is recorded in the flight log.
 
 use super::drone::DroneRun;
-use super::freeze::{FreezeTarget, freeze_target, leg_at, lost_voxels, nearest_voxel};
+use super::freeze::{FreezeTarget, freeze_target, lost_voxels, nearest_voxel, replan_from_leg};
 use super::log::{LogEvent, ReplanRecord};
 use super::phase::Phase;
 use super::splice::{Splice, SpliceError, SpliceInput, Survivor, plan_splice};
@@ -301,13 +301,10 @@ impl Replanner {
                 }
             }
         }
-        let from_leg = first_leg_to_fly(
+        let from_leg = replan_from_leg(
             &self.mission,
-            targets
-                .iter()
-                .filter_map(|(_, t, _)| leg_at(&self.mission, &self.plan, t.step))
-                .min()
-                .unwrap_or(0),
+            &self.plan,
+            targets.iter().map(|(_, t, _)| t.step),
         );
         let mut lost = Vec::new();
         for &i in &left_out {
@@ -326,6 +323,17 @@ impl Replanner {
                 // Retired and down where it descended: nobody is planned above it.
                 lost.push(v);
             }
+        }
+        if !lost.is_empty() {
+            let voxels: Vec<String> = lost.iter().map(ToString::to_string).collect();
+            events.push(LogEvent::new(
+                since_arm_s,
+                None,
+                &format!(
+                    "frozen; planning around {} with the columns below them (where the drones that left may be)",
+                    voxels.join(" ")
+                ),
+            ));
         }
         let input = SpliceInput {
             mission: self.mission.clone(),
@@ -440,22 +448,6 @@ impl Replanner {
             new_makespan_s: None,
             fallback: Some(why.to_string()),
         });
-    }
-}
-
-/// The leg a replan starts from when the least advanced survivor is in leg
-/// `least`: that leg, except that takeoff's targets (the starts) are only
-/// waypoints on the way to the first formation — a survivor already past its
-/// start would be sent back to it — so a replan during takeoff flies straight on
-/// to the formation.
-fn first_leg_to_fly(mission: &Mission, least: usize) -> usize {
-    use crate::mission::LegKind;
-    let legs = mission.legs();
-    let kind = |i: usize| legs.get(i).map(|l| l.kind);
-    if kind(least) == Some(LegKind::Takeoff) && kind(least + 1) == Some(LegKind::Formation) {
-        least + 1
-    } else {
-        least
     }
 }
 

@@ -79,7 +79,7 @@ impl Mission {
                 .iter()
                 .map(|g| {
                     let starts: Option<Vec<Voxel>> = g.drones.iter().map(|d| d.start).collect();
-                    Targets::Any(starts.unwrap_or_else(|| g.goals.clone()))
+                    Targets::Any(starts.unwrap_or_else(|| g.formation_targets(&g.goals)))
                 })
                 .collect(),
         });
@@ -93,7 +93,7 @@ impl Mission {
                     .iter()
                     .map(|g| {
                         if g.has_starts() {
-                            Targets::Any(g.goals.clone())
+                            Targets::Any(g.formation_targets(&g.goals))
                         } else {
                             Targets::Stay
                         }
@@ -109,7 +109,12 @@ impl Mission {
                 targets: stage
                     .goals
                     .iter()
-                    .map(|goals| goals.clone().map_or(Targets::Stay, Targets::Any))
+                    .zip(&self.groups)
+                    .map(|(goals, g)| {
+                        goals.as_deref().map_or(Targets::Stay, |goals| {
+                            Targets::Any(g.formation_targets(goals))
+                        })
+                    })
                     .collect(),
             });
         }
@@ -121,9 +126,13 @@ impl Mission {
                 .groups
                 .iter()
                 .map(|g| match self.landing {
-                    Landing::GroupPads => {
-                        Targets::Any(g.drones.iter().map(|d| d.pad_voxel()).collect())
-                    }
+                    Landing::GroupPads => Targets::Any(
+                        g.drones
+                            .iter()
+                            .map(|d| d.pad_voxel())
+                            .chain(g.free_pads.iter().copied())
+                            .collect(),
+                    ),
                     Landing::OwnPad => {
                         Targets::Own(g.drones.iter().map(|d| d.pad_voxel()).collect())
                     }

@@ -195,11 +195,39 @@ pub struct Group {
     pub name: String,
     /// At least one drone.
     pub drones: Vec<Drone>,
-    /// At least as many as drones; any drone of the group may take any of them.
+    /// At least one; any drone of the group may take any of them. Drones beyond
+    /// the goals are spares (see [`Group::formation_targets`]).
     pub goals: Vec<Voxel>,
+    /// Pad-layer cells of pads whose drones left the group in flight (a replan's
+    /// lost or retired drones): with `group_pads` landing any drone of the group
+    /// may land there too. Empty in a mission as written.
+    pub free_pads: Vec<Voxel>,
 }
 
 impl Group {
+    /// The voxels the group's spares hold while it flies a formation of `goals`
+    /// goals: one per drone beyond the goals — the starts of the group's last
+    /// drones in file order, or the pad-layer cells above their pads for a group
+    /// without starts. Which drones end there is the planner's choice, like every
+    /// assignment within a group; on a loss a replan sends a spare to the lost
+    /// drone's goal.
+    pub fn spare_holds(&self, goals: usize) -> Vec<Voxel> {
+        let spares = self.drones.len().saturating_sub(goals);
+        self.drones[self.drones.len() - spares..]
+            .iter()
+            .map(|d| d.start.unwrap_or_else(|| d.pad_voxel()))
+            .collect()
+    }
+
+    /// Where the group's drones may end a formation of `goals`: the goals, and a
+    /// holding voxel per spare ([`Group::spare_holds`]). As many as drones (or
+    /// more), so every goal is taken whenever the group has a drone for it.
+    pub fn formation_targets(&self, goals: &[Voxel]) -> Vec<Voxel> {
+        let mut targets = goals.to_vec();
+        targets.extend(self.spare_holds(goals.len()));
+        targets
+    }
+
     /// Every drone has a start (validation allows all or none within a group).
     pub fn has_starts(&self) -> bool {
         self.drones.iter().all(|d| d.start.is_some())

@@ -28,7 +28,8 @@ use std::collections::VecDeque;
 pub fn makespan_lower_bound(mission: &Mission) -> Option<u32> {
     mission.groups.iter().try_fold(0, |acc, g| {
         let starts: Option<Vec<Voxel>> = g.drones.iter().map(|d| d.start).collect();
-        group_lower_bound(&mission.world, &starts?, &g.goals).map(|lb| acc.max(lb))
+        let targets = g.formation_targets(&g.goals);
+        group_lower_bound(&mission.world, &starts?, &targets).map(|lb| acc.max(lb))
     })
 }
 

@@ -103,7 +103,17 @@ pub fn replan_with_progress(
     let at_of = |id: &str| survivors.iter().find(|s| s.0 == id).map(|s| s.1);
     let mut kept_groups = Vec::with_capacity(rest.groups.len());
     for group in &mut rest.groups {
-        group.drones.retain(|d| at_of(&d.id).is_some());
+        // A drone that is gone leaves its pad to the others (`group_pads` landing):
+        // one of theirs may lie in a lost drone's column.
+        let (kept, gone): (Vec<_>, Vec<_>) = std::mem::take(&mut group.drones)
+            .into_iter()
+            .partition(|d| at_of(&d.id).is_some());
+        group.drones = kept;
+        group.free_pads.extend(
+            gone.iter()
+                .map(|d| d.pad_voxel())
+                .filter(|&v| rest.airspace.is_free(v)),
+        );
         kept_groups.push(!group.drones.is_empty());
     }
     let mut keep = kept_groups.iter();
@@ -319,5 +329,48 @@ mod tests {
         assert!(problem(&[("b2", b2_at), ("b2", b2_at)], &[], 1).contains("named twice"));
         assert!(problem(&[("b2", b2_at)], &[b2_at], 1).contains("column below a lost drone"));
         assert!(problem(&[("b2", b2_at)], &[], 99).contains("leg 99 does not exist"));
+    }
+
+    /// b1 is lost over b2's pad (it may be in the pad-layer cells (0, 2), (1, 2)
+    /// and (2, 2), as a flight saw it): b2 cannot land on its own pad,
+    /// so one of blue lands on b1's, which b1 no longer needs (`group_pads`).
+    #[test]
+    fn a_pad_under_a_lost_drone_is_replaced_by_the_lost_drones_own() {
+        let m = crate::mission::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/missions/formation-change-spares.yaml"
+        )))
+        .expect("mission");
+        let v = Voxel::new;
+        let at = [
+            ("b2", v(7, 2, 1)),
+            ("b3", v(7, 3, -1)),
+            ("b4", v(5, 3, 1)),
+            ("b5", v(0, 5, -1)),
+            ("r1", v(0, 1, 1)),
+            ("r2", v(1, 2, 1)),
+            ("r3", v(1, 3, 1)),
+            ("r4", v(0, 3, 1)),
+            ("r5", v(7, 0, -1)),
+        ];
+        let lost = [v(0, 2, -1), v(1, 2, -1), v(2, 2, -1)];
+        let re = replan(&m, 1, &at, &lost, &PlanOptions::default()).expect("a plan");
+        let ends: Vec<Voxel> = re
+            .solution
+            .plan
+            .drones
+            .iter()
+            .filter_map(|d| d.path.last().copied())
+            .collect();
+        assert!(!ends.contains(&v(0, 2, -1)), "nobody lands in b1's column");
+        assert!(
+            ends.contains(&v(0, 1, -1)),
+            "someone lands on b1's pad: {ends:?}"
+        );
+        let starts: Vec<(&str, Voxel)> = at.to_vec();
+        assert_eq!(
+            crate::plan::validate_rest(&re.mission, re.from_leg, &starts, &re.solution.plan),
+            Ok(())
+        );
     }
 }

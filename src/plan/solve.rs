@@ -290,12 +290,21 @@ fn solve_in_space(
             });
         }
         let starts: Option<Vec<u32>> = g.starts.iter().map(|&v| compact(v)).collect();
-        let goals: Option<Vec<u32>> = g.goals.iter().map(|&v| compact(v)).collect();
+        // A target that is blocked is no target: a replan blocks a lost drone's
+        // column, which may hold another drone's pad (any of the group's others
+        // may still do; too few left is reported below).
+        let free_goals: Vec<Voxel> = g
+            .goals
+            .iter()
+            .copied()
+            .filter(|&v| grid.is_free(v))
+            .collect();
+        let goals: Option<Vec<u32>> = free_goals.iter().map(|&v| compact(v)).collect();
         let unreachable = || PlanError::Unreachable(format!("#{gi}"));
         let (Some(starts), Some(goals)) = (starts, goals) else {
             return Err(unreachable());
         };
-        let lb = group_lower_bound(grid, &g.starts, &g.goals).ok_or_else(unreachable)?;
+        let lb = group_lower_bound(grid, &g.starts, &free_goals).ok_or_else(unreachable)?;
         lower_bounds.push(lb);
         cells.push(GroupCells::new(space, starts, &goals));
     }

@@ -73,14 +73,12 @@ impl<'a> Checker<'a, '_> {
                 format!("group {:?} has no drones", g.name),
             );
         }
-        if g.goals.len() < g.drones.len() {
+        if g.goals.is_empty() {
             self.report.add(
                 format!("{gpath}.goals"),
                 format!(
-                    "group {:?} has {} goal(s) for {} drone(s); give at least one goal per drone",
-                    g.name,
-                    g.goals.len(),
-                    g.drones.len()
+                    "group {:?} has no goals; give at least one (drones beyond the goals are spares)",
+                    g.name
                 ),
             );
         }
@@ -107,10 +105,33 @@ impl<'a> Checker<'a, '_> {
             .enumerate()
             .filter_map(|(ki, &raw)| self.goal(format!("{gpath}.goals[{ki}]"), raw))
             .collect();
-        Group {
+        let group = Group {
             name: g.name.clone(),
             drones,
             goals,
+            free_pads: Vec::new(),
+        };
+        self.check_spare_holds(&gpath, &group, &group.goals, "its goals");
+        group
+    }
+
+    /// A spare holds at its start (see `Group::spare_holds`): that start must not
+    /// be one of the goals of the formation, or the group could not fill them all.
+    fn check_spare_holds(&mut self, gpath: &str, group: &Group, goals: &[Voxel], which: &str) {
+        let spares = group.drones.len().saturating_sub(goals.len());
+        let first_spare = group.drones.len() - spares;
+        for (k, hold) in group.spare_holds(goals.len()).into_iter().enumerate() {
+            if goals.contains(&hold) {
+                self.report.add(
+                    format!("{gpath}.drones[{}].start", first_spare + k),
+                    format!(
+                        "group {:?} has {} drones for {} goals, so its last {spares} are spares and hold at their starts, but {hold} is one of {which}; give the spare another start",
+                        group.name,
+                        group.drones.len(),
+                        goals.len()
+                    ),
+                );
+            }
         }
     }
 

@@ -36,7 +36,8 @@ pub(super) fn check_reachability(
                 continue;
             }
             let reachable = set.iter().filter(|&&v| component(v) == Some(home)).count();
-            if reachable < g.drones.len() {
+            // Every drone needs one; with spares (fewer goals than drones) every goal.
+            if reachable < g.drones.len().min(set.len()) {
                 let walled: Vec<String> = set
                     .iter()
                     .filter(|&&v| component(v) != Some(home))

@@ -56,15 +56,12 @@ pub(super) fn check_stages(
                 .map(|g| {
                     let raw = spec.goals.get(&g.name)?;
                     let gpath = format!("{spath}.goals.{}", g.name);
-                    if raw.len() < g.drones.len() {
+                    if raw.is_empty() {
                         report.add(
                             gpath.clone(),
                             format!(
-                                "group {:?} has {} goal(s) in stage {:?} for {} drone(s); give at least one goal per drone",
-                                g.name,
-                                raw.len(),
-                                spec.name,
-                                g.drones.len()
+                                "group {:?} has no goals in stage {:?}; give at least one, or leave the group out of the stage (it stays where it is)",
+                                g.name, spec.name,
                             ),
                         );
                     }
@@ -82,7 +79,18 @@ pub(super) fn check_stages(
                             }
                             Some(v)
                         })
-                        .collect();
+                        .collect::<Vec<Voxel>>();
+                    for hold in g.spare_holds(voxels.len()) {
+                        if voxels.contains(&hold) {
+                            report.add(
+                                gpath.clone(),
+                                format!(
+                                    "group {:?} has fewer goals than drones in stage {:?}, so its last drones are spares and hold at their starts, but {hold} is one of the stage's goals",
+                                    g.name, spec.name
+                                ),
+                            );
+                        }
+                    }
                     Some(voxels)
                 })
                 .collect();
