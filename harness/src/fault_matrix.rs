@@ -65,7 +65,7 @@ impl Expect {
                 )
             }
             Expect::Retires { drone } => {
-                format!("{drone} leaves the plan and lands, the rest finish")
+                format!("{drone} leaves the plan and lands, the rest replanned and finish")
             }
         }
     }

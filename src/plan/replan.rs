@@ -174,13 +174,13 @@ fn check_survivors(
         if !mission.airspace.is_free(at) {
             return Err(bad(
                 id,
-                format!("{at:?} is outside the airspace or in an obstacle"),
+                format!("{at} is outside the airspace or in an obstacle"),
             ));
         }
         if !rest.airspace.is_free(at) {
             return Err(bad(
                 id,
-                format!("{at:?} is in the column below a lost drone"),
+                format!("it is at {at}, in the column below a lost drone (it may fall there)"),
             ));
         }
     }
