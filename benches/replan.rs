@@ -22,7 +22,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use swarmctl::fly::freeze::{freeze_target, lost_voxels, replan_from_leg};
-use swarmctl::fly::path::Route;
+use swarmctl::fly::path::scheduled_routes;
 use swarmctl::fly::splice::{SpliceInput, Survivor, plan_splice};
 use swarmctl::generate::{GenerateOptions, generate};
 use swarmctl::mission::{self, Mission};
@@ -70,17 +70,8 @@ fn first_answerable_loss(
 /// drone whose loss there can be replanned lost: what `plan_splice` gets in flight.
 fn frozen_mid_flight(m: &Mission, options: &PlanOptions) -> (SpliceInput, String) {
     let plan = plan::solve(m, options).expect("plan").plan;
-    let tpg = swarmctl::schedule::build(m, &plan).expect("tpg");
-    let timed = swarmctl::schedule::solve(&tpg).expect("schedule");
-    let trajectories = swarmctl::trajectory::from_schedule(&timed);
-    let execution = swarmctl::schedule::execution_plan(&tpg, &timed);
-    let routes: Vec<Route> = trajectories
-        .drones
-        .iter()
-        .zip(&execution.drones)
-        .map(|(t, e)| Route::new(t, e))
-        .collect();
-    let t_s = timed.makespan_s / 2.0;
+    let (routes, makespan_s) = scheduled_routes(m, &plan).expect("schedule");
+    let t_s = makespan_s / 2.0;
     let frozen: Vec<_> = routes
         .iter()
         .map(|r| {

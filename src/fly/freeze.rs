@@ -271,18 +271,10 @@ groups:
         let plan = crate::plan::solve(&mission, &crate::plan::PlanOptions::default())
             .expect("plan")
             .plan;
-        let tpg = crate::schedule::build(&mission, &plan).expect("tpg");
-        let timed = crate::schedule::solve(&tpg).expect("schedule");
-        let trajectories = crate::trajectory::from_schedule(&timed);
-        let execution = crate::schedule::execution_plan(&tpg, &timed);
-        let routes: Vec<Route> = trajectories
-            .drones
-            .iter()
-            .zip(&execution.drones)
-            .map(|(t, e)| Route::new(t, e))
-            .collect();
+        let (routes, makespan_s) =
+            crate::fly::path::scheduled_routes(&mission, &plan).expect("schedule");
         let mut checked = 0;
-        for tenth in 0..=(timed.makespan_s * 10.0).ceil() as u32 {
+        for tenth in 0..=(makespan_s * 10.0).ceil() as u32 {
             let t_s = f64::from(tenth) / 10.0;
             let mut voxels: Vec<Voxel> = Vec::new();
             for (route, drone) in routes.iter().zip(&plan.drones) {

@@ -42,7 +42,6 @@ pub use placement::FrameSource;
 use crate::link::Session;
 use crate::mission::Mission;
 use crate::plan::DiscretePlan;
-use crate::schedule;
 use drone::DroneRun;
 use follower::Follower;
 use path::Route;
@@ -160,23 +159,14 @@ fn routes(
     plan: &DiscretePlan,
     options: &FlyOptions,
 ) -> Result<(Vec<Route>, f64), FlyError> {
-    let tpg = schedule::build(mission, plan)?;
-    let sched = schedule::solve(&tpg)?;
-    let trajectories = crate::trajectory::from_schedule(&sched);
-    let execution = schedule::execution_plan(&tpg, &sched);
+    let scheduled = path::scheduled_routes(mission, plan)?;
     if options.vehicles.len() != plan.drones.len() {
         return Err(FlyError::VehicleCount {
             plan: plan.drones.len(),
             vehicles: options.vehicles.len(),
         });
     }
-    let routes = trajectories
-        .drones
-        .iter()
-        .zip(&execution.drones)
-        .map(|(t, e)| Route::new(t, e))
-        .collect();
-    Ok((routes, execution.makespan_s))
+    Ok(scheduled)
 }
 
 /// Opens a session with every vehicle, in plan order.

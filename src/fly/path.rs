@@ -154,6 +154,25 @@ impl Route {
     }
 }
 
+/// Every drone's route for flying `plan` in `mission` as scheduled (plan order),
+/// and the schedule's makespan, seconds.
+pub fn scheduled_routes(
+    mission: &crate::mission::Mission,
+    plan: &crate::plan::DiscretePlan,
+) -> Result<(Vec<Route>, f64), crate::schedule::ScheduleError> {
+    let tpg = crate::schedule::build(mission, plan)?;
+    let timed = crate::schedule::solve(&tpg)?;
+    let trajectories = crate::trajectory::from_schedule(&timed);
+    let execution = crate::schedule::execution_plan(&tpg, &timed);
+    let routes = trajectories
+        .drones
+        .iter()
+        .zip(&execution.drones)
+        .map(|(t, e)| Route::new(t, e))
+        .collect();
+    Ok((routes, execution.makespan_s))
+}
+
 /// Straight-line distance between two ENU points, metres.
 pub fn distance_m(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
