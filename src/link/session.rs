@@ -40,7 +40,7 @@ impl Default for CommandPolicy {
     /// p = 0.49, so a command fails with p = 0.51^12 ≈ 3e-4 — and a swarm sends
     /// dozens per flight, which the CI's 8-drone 30 % run hit twice (2026-12-02,
     /// first on a rate request, then on OFFBOARD). So a vehicle that is still heard
-    /// gets up to twice the tries ([`Session::keeps_trying`]): p ≈ 1e-7.
+    /// gets up to twice the tries (`Session::keeps_trying`): p ≈ 1e-7.
     /// A refusal still comes back at once; only a silent vehicle costs the 7 s.
     fn default() -> Self {
         Self {

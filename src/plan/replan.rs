@@ -5,6 +5,10 @@
 //! was last known in **and the column below it down to the pad layer** become
 //! obstacles: nobody is planned through the space it may fall into. That is the
 //! safety margin of a lost drone, stated once here; goals inside it are dropped.
+//! A survivor that is already in such a column (below where the lost drone was)
+//! keeps its voxel only to leave it: the plan must take it out and never back,
+//! and nobody else in (checked after planning; otherwise there is no plan). A
+//! survivor in a lost drone's voxel itself is refused.
 //! The survivors of each group take the group's remaining goals (a group with
 //! fewer drones than goals leaves some empty; one with none left drops out), and every later leg — stages and the
 //! landing on their own pads — is planned as [`super::solve`] plans a whole flight,
@@ -34,6 +38,7 @@
 //! assert!(!re.mission.airspace.is_free(Voxel::new(1, 1, -1)));
 //! ```
 
+use super::discrete_plan::DiscretePlan;
 use super::error::PlanError;
 use super::options::PlanOptions;
 use super::solve::{Solution, solve_from};
@@ -91,11 +96,17 @@ pub fn replan_with_progress(
         });
     }
     let mut rest = mission.clone();
+    // Column voxels a survivor is in stay free for it to leave (see the module docs).
+    let mut evacuated: Vec<(Voxel, &str)> = Vec::new();
     for &v in lost {
         for z in -1..=v.z {
             let below = Voxel::new(v.x, v.y, z);
-            if rest.airspace.contains(below) {
-                rest.airspace.block(below);
+            match survivors.iter().find(|s| s.1 == below) {
+                Some(&(id, _)) if below != v && !lost.contains(&below) => {
+                    evacuated.push((below, id));
+                }
+                _ if rest.airspace.contains(below) => rest.airspace.block(below),
+                _ => {}
             }
         }
     }
@@ -120,10 +131,13 @@ pub fn replan_with_progress(
     rest.groups
         .retain(|_| keep.next().copied().unwrap_or(false));
     // Goals inside a blocked column are gone too (a group left with fewer goals
-    // than drones is reported unreachable by the planner, naming it).
+    // than drones is reported unreachable by the planner, naming it), and so are
+    // those on a voxel a survivor must leave.
     let airspace = rest.airspace.clone();
+    let usable = |g: Voxel| airspace.is_free(g) && !evacuated.iter().any(|e| e.0 == g);
     for group in &mut rest.groups {
-        group.goals.retain(|&g| airspace.is_free(g));
+        group.goals.retain(|&g| usable(g));
+        group.free_pads.retain(|&g| usable(g));
     }
     for stage in &mut rest.stages {
         let mut keep = kept_groups.iter();
@@ -131,7 +145,7 @@ pub fn replan_with_progress(
             .goals
             .retain(|_| keep.next().copied().unwrap_or(false));
         for goals in stage.goals.iter_mut().flatten() {
-            goals.retain(|&g| airspace.is_free(g));
+            goals.retain(|&g| usable(g));
         }
     }
     let at: Vec<Vec<Voxel>> = rest
@@ -147,11 +161,34 @@ pub fn replan_with_progress(
         .find_map(|leg| rest_legs.iter().position(|l| l.name == leg.name))
         .ok_or(PlanError::Internal("a replan without a landing leg"))?;
     let solution = solve_from(&rest, from_rest_leg, at, options, progress)?;
+    check_evacuation(&solution.plan, &evacuated)?;
     Ok(Replanned {
         mission: rest,
         from_leg: from_rest_leg,
         solution,
     })
+}
+
+/// Each `(voxel, drone)` in `evacuated` is in a lost drone's column: `drone` must
+/// leave it and never come back, and no other drone may enter it.
+fn check_evacuation(plan: &DiscretePlan, evacuated: &[(Voxel, &str)]) -> Result<(), PlanError> {
+    for d in &plan.drones {
+        for (step, &v) in d.path.iter().enumerate() {
+            let Some(&(_, owner)) = evacuated.iter().find(|e| e.0 == v) else {
+                continue;
+            };
+            let leaving = owner == d.id && d.path[..step].iter().all(|&p| p == v);
+            if !leaving {
+                return Err(PlanError::LiveState {
+                    drone: d.id.clone(),
+                    problem: format!(
+                        "the only plan found has it at {v} at step {step}, in the column below a lost drone that {owner} must leave"
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Every survivor is a drone of `mission`, named once, in free airspace of `rest`.
@@ -180,7 +217,7 @@ fn check_survivors(
         if !rest.airspace.is_free(at) {
             return Err(bad(
                 id,
-                format!("it is at {at}, in the column below a lost drone (it may fall there)"),
+                format!("it is at {at}, where a lost drone was last known"),
             ));
         }
     }
@@ -327,8 +364,52 @@ mod tests {
         };
         assert!(problem(&[("zz", b2_at)], &[], 1).starts_with("zz: not a drone"));
         assert!(problem(&[("b2", b2_at), ("b2", b2_at)], &[], 1).contains("named twice"));
-        assert!(problem(&[("b2", b2_at)], &[b2_at], 1).contains("column below a lost drone"));
+        assert!(
+            problem(&[("b2", b2_at)], &[b2_at], 1).contains("where a lost drone was last known")
+        );
         assert!(problem(&[("b2", b2_at)], &[], 99).contains("leg 99 does not exist"));
+    }
+
+    /// A survivor below a lost drone, in its column, is planned out of it: b2
+    /// waits at its start under b1's last known voxel, one above. The plan takes
+    /// b2 out and never back and nobody else through b2's voxel; b2's own pad is in
+    /// the column, so blue lands on b1's instead.
+    #[test]
+    fn a_survivor_under_a_lost_drone_is_planned_out_of_its_column() {
+        let mission = formation_change();
+        let options = PlanOptions::default();
+        let whole = solve(&mission, &options).expect("plan").plan;
+        let everyone = at_step(&whole, whole.legs[0].end_step);
+        let survivors: Vec<(&str, Voxel)> = everyone[1..].to_vec();
+        let (b2, b2_at) = survivors[0];
+        assert_eq!(b2, "b2");
+        let lost = Voxel::new(b2_at.x, b2_at.y, b2_at.z + 1);
+        let re = replan(&mission, 1, &survivors, &[lost], &options).expect("replan");
+        let rest = &re.solution.plan;
+        for d in &rest.drones {
+            for (step, &v) in d.path.iter().enumerate() {
+                if v == b2_at {
+                    assert!(
+                        d.id == "b2" && d.path[..step].iter().all(|&p| p == b2_at),
+                        "{} at b2's voxel at step {step}",
+                        d.id
+                    );
+                }
+                let under = v.x == lost.x && v.y == lost.y && v.z <= lost.z;
+                assert!(!under || v == b2_at, "{} in the column at {v}", d.id);
+            }
+        }
+        let b2_path = &rest.drones.iter().find(|d| d.id == "b2").expect("b2").path;
+        assert!(b2_path.iter().any(|&v| v != b2_at), "b2 leaves");
+        let b1_pad = mission.groups[0].drones[0].pad_voxel();
+        assert!(
+            rest.drones.iter().any(|d| d.goal == b1_pad),
+            "someone lands on b1's pad"
+        );
+        assert_eq!(
+            crate::plan::validate_rest(&re.mission, re.from_leg, &survivors, rest),
+            Ok(())
+        );
     }
 
     /// b1 is lost over b2's pad (it may be in the pad-layer cells (0, 2), (1, 2)
