@@ -87,6 +87,41 @@ pub fn paused_for(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> bool
     paused
 }
 
+/// How far apart horizontally a drone coming down keeps from the drones below it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Clearance {
+    /// From one in the air (it may still move) or a lost one: the safety distance
+    /// plus [`COLUMN_MARGIN_M`].
+    pub airborne_m: f64,
+    /// From one on the ground, which stays put: the safety distance plus the
+    /// tracking error, as far as the lander may drift from where it starts down
+    /// (a drone halted off its voxel's column once touched down 0.240 m from a
+    /// landed one with the bare 0.25 m safety distance). Pads are a voxel apart,
+    /// at least the safety distance plus twice the tracking error (validation), so
+    /// neighbouring pads never block each other.
+    pub grounded_m: f64,
+}
+
+impl Clearance {
+    /// For a mission's safety distance and tracking error, metres.
+    pub fn new(safety_distance_m: f64, tracking_error_m: f64) -> Self {
+        Self {
+            airborne_m: safety_distance_m + COLUMN_MARGIN_M,
+            grounded_m: safety_distance_m + tracking_error_m.max(0.0),
+        }
+    }
+
+    /// A drone at `lander` must not come down with another at `other` below it.
+    pub fn blocks(&self, lander: [f64; 3], other: [f64; 3]) -> bool {
+        let clearance_m = if other[2] > AIRBORNE_M {
+            self.airborne_m
+        } else {
+            self.grounded_m
+        };
+        other[2] < lander[2] && horizontal_m(lander, other) < clearance_m
+    }
+}
+
 /// True if `i` can descend vertically: no other drone is below it within the safety
 /// distance horizontally — where it is, or where it would stop braking from its
 /// measured velocity (a drone still sliding after an abort comes underneath), one
@@ -94,7 +129,7 @@ pub fn paused_for(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> bool
 /// lost drone last seen in the air is within that distance horizontally at any
 /// height: silent, it may have crashed and be falling or lying on the ground below
 /// where it was seen. Returns the blocking drone otherwise.
-pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> Option<usize> {
+pub fn column_blocker(drones: &[DroneRun], i: usize, clearance: Clearance) -> Option<usize> {
     let p = drones.get(i)?.position_m()?;
     drones.iter().enumerate().find_map(|(j, other)| {
         if j == i {
@@ -104,23 +139,12 @@ pub fn column_blocker(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> 
         // A lost drone may be falling (or already down) anywhere below its last
         // known position: its whole column is blocked, above the lander or not.
         if matches!(other.phase(), Phase::Lost { .. }) && now[2] > AIRBORNE_M {
-            return (horizontal_m(p, now) < safety_distance_m + COLUMN_MARGIN_M).then_some(j);
+            return (horizontal_m(p, now) < clearance.airborne_m).then_some(j);
         }
         let stop = other
             .stopping_point_m(other.follower().limits())
             .unwrap_or(now);
-        let under = |q: [f64; 3]| {
-            let horizontal = horizontal_m(p, q);
-            // One on the ground stays put: no margin, so neighbouring pads (at
-            // least the safety distance apart) never block each other.
-            let clearance_m = if q[2] > AIRBORNE_M {
-                safety_distance_m + COLUMN_MARGIN_M
-            } else {
-                safety_distance_m
-            };
-            q[2] < p[2] && horizontal < clearance_m
-        };
-        (under(now) || under(stop)).then_some(j)
+        (clearance.blocks(p, now) || clearance.blocks(p, stop)).then_some(j)
     })
 }
 
@@ -196,7 +220,7 @@ pub fn detect_retirement(drones: &mut [DroneRun], since_arm_s: f64, events: &mut
 /// clear, or let the swarm move on for a while when it is not.
 pub fn advance_retirements(
     drones: &mut [DroneRun],
-    safety_distance_m: f64,
+    clearance: Clearance,
     since_arm_s: f64,
     events: &mut Vec<LogEvent>,
 ) {
@@ -221,7 +245,7 @@ pub fn advance_retirements(
         }
         match stage {
             RetireStage::Halting if swarm_at_rest => {
-                try_descent(drones, i, safety_distance_m, since_arm_s, events);
+                try_descent(drones, i, clearance, since_arm_s, events);
             }
             RetireStage::WaitColumn { retry_at_s } if since_arm_s >= retry_at_s => {
                 drones[i].set_retire_stage(RetireStage::Halting);
@@ -243,11 +267,11 @@ pub fn advance_retirements(
 fn try_descent(
     drones: &mut [DroneRun],
     i: usize,
-    safety_distance_m: f64,
+    clearance: Clearance,
     since_arm_s: f64,
     events: &mut Vec<LogEvent>,
 ) {
-    match column_blocker(drones, i, safety_distance_m) {
+    match column_blocker(drones, i, clearance) {
         None => {
             let d = &mut drones[i];
             events.push(LogEvent::new(
@@ -311,7 +335,7 @@ pub fn plan_stuck(drones: &[DroneRun]) -> bool {
 
 /// Drones still waiting to land whose column stays blocked by a drone that will
 /// not move (lost): handing them to the autopilot's hold is all that is left.
-pub fn stranded(drones: &[DroneRun], safety_distance_m: f64) -> Vec<usize> {
+pub fn stranded(drones: &[DroneRun], clearance: Clearance) -> Vec<usize> {
     let settled = drones.iter().all(|d| {
         matches!(
             d.phase(),
@@ -327,6 +351,30 @@ pub fn stranded(drones: &[DroneRun], safety_distance_m: f64) -> Vec<usize> {
     }
     (0..drones.len())
         .filter(|&i| matches!(drones[i].phase(), Phase::AwaitLanding))
-        .filter(|&i| column_blocker(drones, i, safety_distance_m).is_some())
+        .filter(|&i| column_blocker(drones, i, clearance).is_some())
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Clearance;
+
+    /// Safety 0.25 m, tracking error 0.115 m, 1 m voxels (the paper setting).
+    #[test]
+    fn a_lander_keeps_the_safety_distance_plus_its_drift_from_a_landed_drone() {
+        let c = Clearance::new(0.25, 0.115);
+        let landed = [9.0, 8.0, 0.0];
+        // Halted 0.25 m off its voxel's column, right beside a landed drone: it
+        // would touch down at the bare safety distance, and drift closer.
+        assert!(c.blocks([9.0, 8.25, 1.0], landed));
+        assert!(c.blocks([9.0, 8.36, 1.0], landed));
+        assert!(!c.blocks([9.0, 8.37, 1.0], landed));
+        // Above the neighbouring pad, a voxel away: clear.
+        assert!(!c.blocks([10.0, 8.0, 0.5], landed));
+        // One in the air below keeps the 0.1 m margin, whatever the tracking error.
+        assert!(c.blocks([9.0, 8.34, 2.0], [9.0, 8.0, 1.0]));
+        assert!(!c.blocks([9.0, 8.36, 2.0], [9.0, 8.0, 1.0]));
+        // Nobody is blocked by a drone above it.
+        assert!(!c.blocks([9.0, 8.0, 1.0], [9.0, 8.0, 2.0]));
+    }
 }

@@ -214,12 +214,11 @@ impl<'a> Flight<'a> {
         if !self.landing_started {
             contingency::detect_retirement(self.drones, since_arm_s, events);
         }
-        contingency::advance_retirements(
-            self.drones,
+        let clearance = contingency::Clearance::new(
             self.settings.safety_distance_m,
-            since_arm_s,
-            events,
+            self.settings.tracking_error_m,
         );
+        contingency::advance_retirements(self.drones, clearance, since_arm_s, events);
         contingency::release_landed(self.drones, self.settings.ground_clear, since_arm_s, events);
         if self.aborting || self.landing_started {
             self.replanner.abandon(since_arm_s, events);
@@ -332,17 +331,17 @@ impl<'a> Flight<'a> {
     /// whose column stays blocked by one that will never move is handed to its
     /// autopilot.
     fn start_landings(&mut self, since_arm_s: f64) {
-        let safety_distance_m = self.settings.safety_distance_m;
+        let clearance = self.clearance();
         for i in 0..self.drones.len() {
             if matches!(self.drones[i].phase(), Phase::AwaitLanding)
                 && self.drones[i].at_rest()
-                && contingency::column_blocker(self.drones, i, safety_distance_m).is_none()
+                && contingency::column_blocker(self.drones, i, clearance).is_none()
             {
                 self.drones[i].begin_landing();
             }
         }
-        for i in contingency::stranded(self.drones, safety_distance_m) {
-            let why = match contingency::column_blocker(self.drones, i, safety_distance_m) {
+        for i in contingency::stranded(self.drones, clearance) {
+            let why = match contingency::column_blocker(self.drones, i, clearance) {
                 Some(j) if matches!(self.drones[j].phase(), Phase::Lost { .. }) => format!(
                     "lost drone {} was last seen in its column (it may have fallen there)",
                     self.drones[j].id()
@@ -392,6 +391,14 @@ impl<'a> Flight<'a> {
                 out.fastest = Some((d.id().to_string(), since_arm_s));
             }
         }
+    }
+
+    /// How far apart horizontally a drone coming down keeps from those below it.
+    fn clearance(&self) -> contingency::Clearance {
+        contingency::Clearance::new(
+            self.settings.safety_distance_m,
+            self.settings.tracking_error_m,
+        )
     }
 
     /// Landing has started and every drone is down, given up, or handed over.

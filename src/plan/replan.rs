@@ -454,4 +454,43 @@ mod tests {
             Ok(())
         );
     }
+
+    /// A spare takes the lost drone's goal: on the formation change with a spare
+    /// per group, b1 is lost where takeoff left it; blue's four survivors, its
+    /// spare b5 among them, end the formation on all four of blue's goals.
+    #[test]
+    fn a_spare_takes_the_lost_drones_goal() {
+        let m = crate::mission::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/missions/formation-change-spares.yaml"
+        )))
+        .expect("mission");
+        let options = PlanOptions::default();
+        let whole = solve(&m, &options).expect("plan").plan;
+        // As planned, b5 holds at its start while the others form the square.
+        let formation_end = whole.legs[1].end_step as usize;
+        let b5 = whole.drones.iter().find(|d| d.id == "b5").expect("b5");
+        assert_eq!(Some(b5.path[formation_end]), m.groups[0].drones[4].start);
+        let everyone = at_step(&whole, whole.legs[0].end_step);
+        let (lost_id, lost_at) = everyone[0];
+        assert_eq!(lost_id, "b1");
+        let survivors: Vec<(&str, Voxel)> = everyone[1..].to_vec();
+        let re = replan(&m, 1, &survivors, &[lost_at], &options).expect("replan");
+        let rest = &re.solution.plan;
+        let end = rest.legs[0].end_step as usize;
+        let mut taken: Vec<Voxel> = rest
+            .drones
+            .iter()
+            .filter(|d| d.group == "blue")
+            .map(|d| d.path[end])
+            .collect();
+        taken.sort_unstable();
+        let mut goals = m.groups[0].goals.clone();
+        goals.sort_unstable();
+        assert_eq!(taken, goals, "every blue goal taken, b5 included");
+        assert_eq!(
+            crate::plan::validate_rest(&re.mission, re.from_leg, &survivors, rest),
+            Ok(())
+        );
+    }
 }

@@ -136,7 +136,13 @@ async fn autopilot_battery_failsafe_is_not_fought() {
 /// the replan every goal of both groups is reached by a different drone. (Lost at
 /// 5 s, b1 is between its own pad and b2's: both columns are blocked, four blue
 /// drones are left three pads, and the flight rightly falls back.)
+///
+/// Ignored in CI: where the freeze leaves the drones depends on timing, and under
+/// CI's load one run found no plan ("group red cannot be matched to distinct
+/// reachable goals", 2026-12-03) and fell back safely; `plan::replan`'s
+/// `a_spare_takes_the_lost_drones_goal` checks the same from a fixed state.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+#[ignore = "timing-dependent freeze state; run with --ignored"]
 async fn a_spare_takes_the_lost_drones_goal() {
     use swarmctl_harness::fault_matrix::{Expect, Scenario};
     let mission = swarmctl::mission::load(&crate::support::repo_path(
