@@ -91,7 +91,7 @@ pub fn paused_for(drones: &[DroneRun], i: usize, safety_distance_m: f64) -> bool
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Clearance {
     /// From one in the air (it may still move) or a lost one: the safety distance
-    /// plus [`COLUMN_MARGIN_M`].
+    /// plus a 0.1 m margin (`COLUMN_MARGIN_M`).
     pub airborne_m: f64,
     /// From one on the ground, which stays put: the safety distance plus the
     /// tracking error, as far as the lander may drift from where it starts down
