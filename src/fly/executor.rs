@@ -209,15 +209,12 @@ impl<'a> Flight<'a> {
     /// Lost drones, retirements, released events and replans, at `t_s` on the
     /// plan clock.
     fn contingencies(&mut self, t_s: f64, now: Instant, since_arm_s: f64) {
+        let clearance = self.clearance();
         let events = &mut self.out.events;
         contingency::track_lost(self.drones, since_arm_s, events);
         if !self.landing_started {
             contingency::detect_retirement(self.drones, since_arm_s, events);
         }
-        let clearance = contingency::Clearance::new(
-            self.settings.safety_distance_m,
-            self.settings.tracking_error_m,
-        );
         contingency::advance_retirements(self.drones, clearance, since_arm_s, events);
         contingency::release_landed(self.drones, self.settings.ground_clear, since_arm_s, events);
         if self.aborting || self.landing_started {
