@@ -237,6 +237,15 @@ mod tests {
         .expect("mission")
     }
 
+    /// The formation change with a spare per group.
+    fn formation_change_spares() -> Mission {
+        crate::mission::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/missions/formation-change-spares.yaml"
+        )))
+        .expect("mission")
+    }
+
     /// Every drone's voxel at `step` of `plan`, by id.
     fn at_step(plan: &DiscretePlan, step: u32) -> Vec<(&str, Voxel)> {
         plan.drones
@@ -417,11 +426,7 @@ mod tests {
     /// so one of blue lands on b1's, which b1 no longer needs (`group_pads`).
     #[test]
     fn a_pad_under_a_lost_drone_is_replaced_by_the_lost_drones_own() {
-        let m = crate::mission::load(std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/missions/formation-change-spares.yaml"
-        )))
-        .expect("mission");
+        let m = formation_change_spares();
         let v = Voxel::new;
         let at = [
             ("b2", v(7, 2, 1)),
@@ -460,11 +465,7 @@ mod tests {
     /// spare b5 among them, end the formation on all four of blue's goals.
     #[test]
     fn a_spare_takes_the_lost_drones_goal() {
-        let m = crate::mission::load(std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/missions/formation-change-spares.yaml"
-        )))
-        .expect("mission");
+        let m = formation_change_spares();
         let options = PlanOptions::default();
         let whole = solve(&m, &options).expect("plan").plan;
         // As planned, b5 holds at its start while the others form the square.
