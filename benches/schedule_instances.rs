@@ -33,6 +33,7 @@ pub fn lanes(drones: usize, seed: u64) -> (VoxelGrid, Limits, DiscretePlan) {
         max_accel_mps2: 2.0,
         max_jerk_mps3: 5.0,
         safety_distance_m: 0.25,
+        vertical_separation_m: None,
         tracking_error_m: 0.0,
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);

@@ -15,6 +15,7 @@ use swarmctl::fly::replan::ReplanOptions;
 use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError};
 use swarmctl::mission::Mission;
 use swarmctl::plan::DiscretePlan;
+use swarmctl::world::Separation;
 use swarmctl_sitl::{Flavour, Swarm};
 
 /// What a scenario must do.
@@ -193,8 +194,12 @@ pub struct ScenarioReport {
     pub min_separation_telemetry_m: f64,
     /// Simulator truth, whole flight, airborne pairs (∞ if nobody flew).
     pub min_separation_truth_m: f64,
-    /// The mission's safety distance, metres: what both separations must keep.
+    /// The mission's safety distance, metres: what both separations must keep
+    /// (under an ellipsoid, its horizontal radius; the scaled separations decide).
     pub safety_distance_m: f64,
+    /// Under an ellipsoidal separation, the scaled separation from telemetry and
+    /// from truth (separated at 1 or more); `None` for a sphere.
+    pub scaled_telemetry_truth: Option<(f64, f64)>,
     /// Wall time of the run, seconds.
     pub duration_s: f64,
     /// Whether the scenario showed its promised behaviour and kept the distance.
@@ -229,7 +234,12 @@ pub async fn run_scenario(
         done.store(true, Ordering::Relaxed);
         result
     };
-    let (result, (truth_m, ever_airborne)) = tokio::join!(flight, watch_truth(&swarm, &done));
+    let ellipsoid = mission
+        .limits
+        .is_ellipsoid()
+        .then(|| mission.limits.separation());
+    let (result, (truth_m, truth_scaled, ever_airborne)) =
+        tokio::join!(flight, watch_truth(&swarm, ellipsoid, &done));
     let duration_s = started.elapsed().as_secs_f64();
     let still_armed: Vec<u8> = (0..swarm.len())
         .map(|i| swarm.snapshot(i))
@@ -240,6 +250,7 @@ pub async fn run_scenario(
     let flown = Flown {
         result,
         truth_m,
+        truth_scaled,
         ever_airborne,
         still_armed,
         duration_s,
@@ -253,6 +264,9 @@ struct Flown {
     result: Result<Result<FlightLog, FlyError>, tokio::time::error::Elapsed>,
     /// Smallest true distance between two airborne vehicles, metres.
     truth_m: f64,
+    /// Under an ellipsoid, the smallest true scaled separation of two airborne
+    /// vehicles.
+    truth_scaled: Option<f64>,
     /// Whether any vehicle left the ground.
     ever_airborne: bool,
     /// System ids armed after the flight.
@@ -287,14 +301,32 @@ impl Flown {
         let telemetry_m = log
             .as_ref()
             .map_or(f64::INFINITY, |l| l.summary.min_separation_m);
-        if telemetry_m < safety {
-            failures.push(format!(
-                "telemetry separation {telemetry_m:.3} m < {safety} m"
-            ));
-        }
         let truth_m = self.truth_m;
-        if truth_m < safety {
-            failures.push(format!("true separation {truth_m:.3} m < {safety} m"));
+        let scaled_telemetry_truth = self.truth_scaled.map(|truth| {
+            let telemetry = log
+                .as_ref()
+                .and_then(|l| l.summary.min_scaled_separation)
+                .unwrap_or(f64::INFINITY);
+            (telemetry, truth)
+        });
+        match scaled_telemetry_truth {
+            Some((telemetry, truth)) => {
+                for (what, scaled) in [("telemetry", telemetry), ("true", truth)] {
+                    if scaled < 1.0 {
+                        failures.push(format!("{what} scaled separation {scaled:.3} < 1"));
+                    }
+                }
+            }
+            None => {
+                if telemetry_m < safety {
+                    failures.push(format!(
+                        "telemetry separation {telemetry_m:.3} m < {safety} m"
+                    ));
+                }
+                if truth_m < safety {
+                    failures.push(format!("true separation {truth_m:.3} m < {safety} m"));
+                }
+            }
         }
         ScenarioReport {
             name: scenario.name.to_string(),
@@ -308,6 +340,7 @@ impl Flown {
             min_separation_telemetry_m: telemetry_m,
             min_separation_truth_m: truth_m,
             safety_distance_m: safety,
+            scaled_telemetry_truth,
             duration_s: self.duration_s,
             passed: failures.is_empty(),
             failures,
@@ -400,16 +433,24 @@ fn wrongly_armed(still_armed: Vec<u8>, log: Option<&FlightLog>) -> Vec<u8> {
 
 /// Samples the simulator's true positions at 50 Hz until `done`: the smallest
 /// distance between two airborne vehicles, and whether anyone left the ground.
-async fn watch_truth(swarm: &Swarm, done: &AtomicBool) -> (f64, bool) {
+async fn watch_truth(
+    swarm: &Swarm,
+    ellipsoid: Option<Separation>,
+    done: &AtomicBool,
+) -> (f64, Option<f64>, bool) {
     let mut min_m = f64::INFINITY;
+    let mut min_scaled = ellipsoid.map(|_| f64::INFINITY);
     let mut ever_airborne = false;
     let mut airborne = Vec::with_capacity(swarm.len());
     while !done.load(Ordering::Relaxed) {
         min_m = min_m.min(crate::true_min_separation_m(swarm, &mut airborne));
+        if let (Some(e), Some(min)) = (&ellipsoid, &mut min_scaled) {
+            *min = min.min(crate::true_min_scaled_separation(&airborne, e));
+        }
         ever_airborne |= !airborne.is_empty();
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
-    (min_m, ever_airborne)
+    (min_m, min_scaled, ever_airborne)
 }
 
 fn describe_error(e: &FlyError) -> String {
@@ -474,8 +515,20 @@ pub fn markdown_table(reports: &[ScenarioReport]) -> String {
                 "—".into()
             }
         };
+        let scaled = r
+            .scaled_telemetry_truth
+            .map_or(String::new(), |(telemetry, truth)| {
+                let show = |x: f64| {
+                    if x.is_finite() {
+                        format!("{x:.2}")
+                    } else {
+                        "—".into()
+                    }
+                };
+                format!("; scaled {} / {} (≥ 1)", show(telemetry), show(truth))
+            });
         out.push_str(&format!(
-            "| {} | `{}` | {} | {} | {} / {} ({:.2} m) | {} |\n",
+            "| {} | `{}` | {} | {} | {} / {} ({:.2} m){scaled} | {} |\n",
             r.name,
             r.faults,
             r.expected,

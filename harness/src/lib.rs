@@ -18,7 +18,7 @@ pub use load::{LoadOptions, LoadReport, run_load};
 pub use plan_suite::{PlanSuite, PlanSuiteReport, run_plan_suite};
 pub use resources::{ProcessResources, process_resources};
 pub use stats::median;
-pub use truth::true_min_separation_m;
+pub use truth::{true_min_scaled_separation, true_min_separation_m};
 
 /// The process's peak resident memory in bytes (Linux `VmHWM`), if known.
 /// Kept under its old name for callers of the crate root; it is

@@ -1,6 +1,7 @@
 //! The simulator's truth: what really happened, independent of the telemetry the
 //! flight executor saw (including drones it could no longer hear).
 
+use swarmctl::world::Separation;
 use swarmctl_sitl::Swarm;
 
 /// Below this height (metres above the ground) a vehicle is on the ground, and
@@ -26,4 +27,18 @@ pub fn true_min_separation_m(swarm: &Swarm, airborne: &mut Vec<[f32; 3]>) -> f64
         }
     }
     f64::from(min_d2.sqrt())
+}
+
+/// Smallest scaled separation under `ellipsoid` among `airborne` positions (NED
+/// metres, as [`true_min_separation_m`] leaves them), separated at 1 or more (∞
+/// with fewer than two).
+pub fn true_min_scaled_separation(airborne: &[[f32; 3]], ellipsoid: &Separation) -> f64 {
+    let mut min = f64::INFINITY;
+    for (k, a) in airborne.iter().enumerate() {
+        for b in &airborne[k + 1..] {
+            let delta_m: [f64; 3] = std::array::from_fn(|c| f64::from(a[c] - b[c]));
+            min = min.min(ellipsoid.scaled(delta_m));
+        }
+    }
+    min
 }

@@ -32,6 +32,11 @@ pub struct Outcome {
     pub min_separation_m: f64,
     /// The two drones that came closest, and when (seconds since the first arm).
     pub closest_pair: Option<(String, String, f64)>,
+    /// Under an ellipsoidal separation, the smallest scaled telemetry separation
+    /// over the whole flight (separated when at least 1; ∞ if none or a sphere).
+    pub min_scaled_separation: f64,
+    /// The two drones behind `min_scaled_separation`, and when.
+    pub closest_scaled_pair: Option<(String, String, f64)>,
     /// Highest telemetry speed over the whole flight, metres per second.
     pub max_speed_mps: f64,
     /// The drone that flew fastest, and when (seconds since the first arm).
@@ -137,6 +142,7 @@ impl<'a> Flight<'a> {
             settings,
             out: Outcome {
                 min_separation_m: f64::INFINITY,
+                min_scaled_separation: f64::INFINITY,
                 ..Outcome::default()
             },
             execution_t0: None,
@@ -371,14 +377,24 @@ impl<'a> Flight<'a> {
             .collect();
         for (k, (i, a)) in known.iter().enumerate() {
             for (j, b) in &known[k + 1..] {
-                let sep = super::path::distance_m(*a, *b);
-                if sep < out.min_separation_m {
-                    out.min_separation_m = sep;
-                    out.closest_pair = Some((
+                let pair = || {
+                    Some((
                         drones[*i].id().to_string(),
                         drones[*j].id().to_string(),
                         since_arm_s,
-                    ));
+                    ))
+                };
+                let sep = super::path::distance_m(*a, *b);
+                if sep < out.min_separation_m {
+                    out.min_separation_m = sep;
+                    out.closest_pair = pair();
+                }
+                if let Some(ellipsoid) = &self.settings.ellipsoid {
+                    let scaled = ellipsoid.scaled(std::array::from_fn(|c| a[c] - b[c]));
+                    if scaled < out.min_scaled_separation {
+                        out.min_scaled_separation = scaled;
+                        out.closest_scaled_pair = pair();
+                    }
                 }
             }
         }

@@ -50,8 +50,21 @@ pub struct Summary {
     pub min_separation_m: f64,
     /// The two drones that came closest, and when (seconds since the first arm).
     pub closest_pair: Option<(String, String, f64)>,
-    /// The mission's safety distance, to read `min_separation_m` against, metres.
+    /// The mission's safety distance, to read `min_separation_m` against, metres
+    /// (an ellipsoid's horizontal radius).
     pub safety_distance_m: f64,
+    /// An ellipsoid's vertical radius, metres; `None` for a sphere.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical_separation_m: Option<f64>,
+    /// Under an ellipsoid, the smallest scaled separation from telemetry over the
+    /// whole flight, pad to pad: `√((dx/H)² + (dy/H)² + (dz/V)²)`, separated when at
+    /// least 1; `safety_held` reads it. `None` for a sphere; omitted from the JSON
+    /// when nothing was measured.
+    #[serde(default, skip_serializing_if = "not_finite_option")]
+    pub min_scaled_separation: Option<f64>,
+    /// The two drones behind `min_scaled_separation`, and when.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub closest_scaled_pair: Option<(String, String, f64)>,
     /// Highest speed reported by any drone's telemetry, over the whole flight.
     pub max_speed_mps: f64,
     /// The drone that flew fastest, and when (seconds since the first arm).
@@ -224,6 +237,10 @@ fn not_finite(value: &f64) -> bool {
     !value.is_finite()
 }
 
+fn not_finite_option(value: &Option<f64>) -> bool {
+    !value.is_some_and(f64::is_finite)
+}
+
 /// A separation for people: metres, or why there is none.
 fn separation_text(separation_m: f64) -> String {
     if separation_m.is_finite() {
@@ -234,6 +251,47 @@ fn separation_text(separation_m: f64) -> String {
 }
 
 impl Summary {
+    /// Under an ellipsoid, the scaled separation line of the summary.
+    fn scaled_line(&self) -> Option<String> {
+        self.min_scaled_separation.map(|scaled| {
+            format!(
+                "  scaled separation    {} pad to pad (ellipsoid {:.3} m beside × {:.3} m above and below; separated at 1 or more){}",
+                if scaled.is_finite() { format!("{scaled:.3}") } else { "none measured".to_string() },
+                self.safety_distance_m,
+                self.vertical_separation_m.unwrap_or(self.safety_distance_m),
+                self.closest_scaled_pair
+                    .as_ref()
+                    .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
+            )
+        })
+    }
+
+    /// Whether the separation held, and if not by how much and where.
+    fn safety_line(&self) -> String {
+        format!(
+            "  safety               {}",
+            if self.safety_held {
+                "held".to_string()
+            } else if let Some(scaled) = self.min_scaled_separation {
+                format!(
+                    "VIOLATED (scaled {scaled:.3} < 1{})",
+                    self.closest_scaled_pair
+                        .as_ref()
+                        .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
+                )
+            } else {
+                format!(
+                    "VIOLATED ({} < {:.3} m{})",
+                    separation_text(self.min_separation_m),
+                    self.safety_distance_m,
+                    self.closest_pair
+                        .as_ref()
+                        .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
+                )
+            }
+        )
+    }
+
     /// The lines `swarmctl fly` prints.
     pub fn lines(&self) -> Vec<String> {
         let mut lines = vec![
@@ -259,21 +317,7 @@ impl Summary {
                     .as_ref()
                     .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
             ),
-            format!(
-                "  safety               {}",
-                if self.safety_held {
-                    "held".to_string()
-                } else {
-                    format!(
-                        "VIOLATED ({} < {:.3} m{})",
-                        separation_text(self.min_separation_m),
-                        self.safety_distance_m,
-                        self.closest_pair
-                            .as_ref()
-                            .map_or(String::new(), |(a, b, t)| format!(", {a}–{b} at {t:.1} s"))
-                    )
-                }
-            ),
+            self.safety_line(),
             format!(
                 "  max speed            {:.2} m/s (limit {:.2} m/s, {:.0} % tolerance): {}{}",
                 self.max_speed_mps,
@@ -312,6 +356,10 @@ impl Summary {
                 self.max_final_distance_to_goal_m
             ),
         ];
+        // After the min separation line.
+        if let Some(scaled) = self.scaled_line() {
+            lines.insert(4, scaled);
+        }
         lines.extend(self.replans.iter().map(ReplanRecord::line));
         for (label, ids) in [
             ("LOST", &self.lost),
@@ -330,6 +378,29 @@ impl Summary {
 mod tests {
     use super::*;
 
+    #[test]
+    fn an_ellipsoid_summary_judges_by_the_scaled_separation() {
+        let mut s = summary(0.6);
+        s.vertical_separation_m = Some(0.75);
+        s.min_scaled_separation = Some(0.8);
+        s.closest_scaled_pair = Some(("a".into(), "b".into(), 12.0));
+        s.safety_held = false;
+        let text = s.lines().join("\n");
+        assert!(
+            text.contains("scaled separation    0.800 pad to pad"),
+            "{text}"
+        );
+        assert!(
+            text.contains("VIOLATED (scaled 0.800 < 1, a–b at 12.0 s)"),
+            "{text}"
+        );
+        let json = serde_json::to_string(&s).unwrap();
+        let back: Summary = serde_json::from_str(&json).unwrap();
+        assert_eq!(back.min_scaled_separation, Some(0.8));
+        // A sphere's summary has no scaled line.
+        assert!(!summary(0.6).lines().join("\n").contains("scaled"));
+    }
+
     fn summary(min_separation_m: f64) -> Summary {
         Summary {
             completed: false,
@@ -339,6 +410,9 @@ mod tests {
             executed_makespan_s: None,
             min_separation_m,
             closest_pair: None,
+            vertical_separation_m: None,
+            min_scaled_separation: None,
+            closest_scaled_pair: None,
             safety_distance_m: 0.25,
             max_speed_mps: 0.0,
             fastest: None,

@@ -114,6 +114,7 @@ pub async fn fly(
             + settings::TIMEOUT_MARGIN_S,
         timeout_factor: options.timeout_factor,
         safety_distance_m: l.safety_distance_m,
+        ellipsoid: l.is_ellipsoid().then(|| l.separation()),
         // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
         ground_clear: mission.pad_height_m() >= l.safety_distance_m,
     };

@@ -68,7 +68,12 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
     let drones = flown.drones;
     let logs = flown.logs;
     // Held also when nothing was measured (∞): no two drones were ever heard from.
-    let safety_held = outcome.min_separation_m >= flown.limits.safety_distance_m;
+    let ellipsoid = flown.limits.is_ellipsoid();
+    let safety_held = if ellipsoid {
+        outcome.min_scaled_separation >= 1.0
+    } else {
+        outcome.min_separation_m >= flown.limits.safety_distance_m
+    };
     // A lost drone a replan flew on without is not ours to land.
     let all_landed = drones.iter().all(|d| {
         matches!(d.phase(), Phase::Landed)
@@ -87,6 +92,9 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
         min_separation_m: outcome.min_separation_m,
         closest_pair: outcome.closest_pair.clone(),
         safety_distance_m: flown.limits.safety_distance_m,
+        vertical_separation_m: flown.limits.vertical_separation_m,
+        min_scaled_separation: ellipsoid.then_some(outcome.min_scaled_separation),
+        closest_scaled_pair: outcome.closest_scaled_pair.clone(),
         max_speed_mps: outcome.max_speed_mps,
         speed_limit_mps: flown.limits.max_speed_mps,
         gating_waits: logs.iter().map(|d| d.gating_waits).sum(),

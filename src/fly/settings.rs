@@ -25,6 +25,10 @@ pub struct LoopSettings {
     /// The mission's minimum separation: a drone descends only when no other is
     /// below it within this distance horizontally, metres.
     pub safety_distance_m: f64,
+    /// The separation ellipsoid the vehicles keep, when the mission has one: the
+    /// flight measures the scaled separation against it (`None`: a sphere of
+    /// `safety_distance_m`).
+    pub ellipsoid: Option<crate::world::Separation>,
     /// The ground lies below the pad layer, the airspace's lowest, by at least the
     /// safety distance, so a drone landed out of the plan is in nobody's way.
     pub ground_clear: bool,

@@ -166,6 +166,7 @@ mod tests {
             max_accel_mps2: 2.0,
             max_jerk_mps3: 5.0,
             safety_distance_m: 0.4,
+            vertical_separation_m: None,
             tracking_error_m: 0.2,
         }
     }

@@ -12,7 +12,8 @@ pub fn default_limits() -> LimitsSpec {
         max_speed_mps: 1.0,
         max_accel_mps2: 2.0,
         max_jerk_mps3: None,
-        safety_distance_m: 0.3,
+        safety_distance_m: Some(0.3),
+        separation: None,
         tracking_error_m: None,
     }
 }

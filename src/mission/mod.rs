@@ -18,5 +18,5 @@ pub use types::{
     DEFAULT_MAX_JERK_MPS3, DEFAULT_TRACKING_ERROR_M, Drone, Geodetic, Group, KeySource, Limits,
     LinkSettings, Mission, PadSource, Stage,
 };
-pub use validate::{MAX_DIMENSION, MAX_VOXELS, validate};
+pub use validate::{MAX_DIMENSION, MAX_VERTICAL_LAYERS, MAX_VOXELS, validate};
 pub use write::to_yaml;

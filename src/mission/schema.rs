@@ -181,14 +181,45 @@ pub struct LimitsSpec {
     /// By default 2.5 m/s³ (see [`super::types::DEFAULT_MAX_JERK_MPS3`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_jerk_mps3: Option<f64>,
-    /// Drones never come closer than this, metres (centre to centre).
-    pub safety_distance_m: f64,
+    /// Drones never come closer than this, metres (centre to centre): a sphere.
+    /// Give this or `separation`, not both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub safety_distance_m: Option<f64>,
+    /// An ellipsoid instead of a sphere: drones keep `horizontal_m` beside one
+    /// another and `vertical_m` above and below (downwash). Give this or
+    /// `safety_distance_m`, not both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub separation: Option<SeparationSpec>,
     /// How far every vehicle is trusted to stay from its setpoint, metres: the
     /// schedule keeps setpoints `safety_distance_m + 2 × tracking_error_m` apart and
     /// the executor holds back a drone that strays further. By default all the room
     /// the geometry leaves, at most 0.30 m (see [`super::types::Limits`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tracking_error_m: Option<f64>,
+}
+
+/// An ellipsoidal separation as written (`limits.separation`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SeparationSpec {
+    /// Radius beside a drone, metres; positive and at most the voxel size (with
+    /// the tracking error).
+    pub horizontal_m: f64,
+    /// Radius above and below a drone, metres; positive, at most
+    /// [`super::MAX_VERTICAL_LAYERS`] voxel sizes.
+    pub vertical_m: f64,
+}
+
+impl LimitsSpec {
+    /// The horizontal separation as written: the sphere's radius or the
+    /// ellipsoid's horizontal one (0 when neither is given, which validation reports).
+    pub fn horizontal_separation_m(&self) -> f64 {
+        match (self.safety_distance_m, self.separation) {
+            (Some(d), _) => d,
+            (None, Some(e)) => e.horizontal_m,
+            (None, None) => 0.0,
+        }
+    }
 }
 
 /// Which autopilot firmware the vehicles run; decides offboard (PX4) or guided (ArduPilot).

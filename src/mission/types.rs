@@ -2,7 +2,7 @@
 
 pub use super::schema::Geodetic;
 use super::schema::{Autopilot, Landing};
-use crate::world::{Voxel, VoxelGrid};
+use crate::world::{Separation, VerticalReach, Voxel, VoxelGrid};
 use serde::{Deserialize, Serialize};
 
 /// A mission that passed validation; the planner may trust every field.
@@ -118,7 +118,14 @@ pub struct Limits {
     /// mission does not say, [`DEFAULT_MAX_JERK_MPS3`].
     pub max_jerk_mps3: f64,
     /// Drones never come closer than this, metres (centre to centre); positive.
+    /// With [`Limits::vertical_separation_m`] it is the ellipsoid's horizontal
+    /// radius: drones side by side keep it.
     pub safety_distance_m: f64,
+    /// The ellipsoid's vertical radius, metres, when the mission separates drones by
+    /// an ellipsoid (`limits.separation`); `None` for a sphere of
+    /// `safety_distance_m`. See [`crate::world::Separation`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical_separation_m: Option<f64>,
     /// How far every vehicle is trusted to stay from its setpoint, metres; zero or
     /// more. The schedule keeps setpoints [`Limits::setpoint_separation_m`] apart, so
     /// vehicles within this of their setpoints keep `safety_distance_m`; the executor
@@ -156,9 +163,49 @@ impl Limits {
     }
 
     /// How far apart the schedule keeps setpoints: the safety distance plus the
-    /// tracking error of both drones.
+    /// tracking error of both drones (for an ellipsoid, its horizontal radius plus
+    /// both drones' tracking error).
     pub fn setpoint_separation_m(&self) -> f64 {
         self.safety_distance_m + 2.0 * self.tracking_error_m
+    }
+
+    /// The separation vehicles keep: a sphere of the safety distance, or the
+    /// mission's ellipsoid.
+    pub fn separation(&self) -> Separation {
+        Separation {
+            horizontal_m: self.safety_distance_m,
+            vertical_m: self.vertical_separation_m.unwrap_or(self.safety_distance_m),
+        }
+    }
+
+    /// The separation the schedule keeps between *setpoints*: each radius grown by
+    /// both drones' tracking error. Vehicles within the tracking error of their
+    /// setpoints are then at least [`Limits::separation`] apart: setpoints outside
+    /// the grown ellipsoid's bounding cylinder (`ρ ≥ H + 2e` or `|dz| ≥ V + 2e`)
+    /// leave the vehicles `ρ ≥ H` or `|dz| ≥ V` apart, and either puts them outside
+    /// the ellipsoid.
+    pub fn setpoint_separation(&self) -> Separation {
+        let grow_m = 2.0 * self.tracking_error_m;
+        let s = self.separation();
+        Separation {
+            horizontal_m: s.horizontal_m + grow_m,
+            vertical_m: s.vertical_m + grow_m,
+        }
+    }
+
+    /// Whether drones are separated by an ellipsoid rather than a sphere.
+    pub fn is_ellipsoid(&self) -> bool {
+        self.vertical_separation_m.is_some()
+    }
+
+    /// The vertical reach the planner and the schedule keep in `airspace`:
+    /// [`VerticalReach::NONE`] for a sphere.
+    pub fn vertical_reach(&self, airspace: &VoxelGrid) -> VerticalReach {
+        if self.is_ellipsoid() {
+            VerticalReach::new(airspace, self.setpoint_separation())
+        } else {
+            VerticalReach::NONE
+        }
     }
 }
 

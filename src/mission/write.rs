@@ -121,7 +121,16 @@ fn write_limits_and_link(out: &mut String, file: &MissionFile) -> std::fmt::Resu
     if let Some(j) = limits.max_jerk_mps3 {
         writeln!(out, "  max_jerk_mps3: {j:?}")?;
     }
-    writeln!(out, "  safety_distance_m: {:?}", limits.safety_distance_m)?;
+    if let Some(d) = limits.safety_distance_m {
+        writeln!(out, "  safety_distance_m: {d:?}")?;
+    }
+    if let Some(e) = limits.separation {
+        writeln!(
+            out,
+            "  separation: {{ horizontal_m: {:?}, vertical_m: {:?} }}",
+            e.horizontal_m, e.vertical_m
+        )?;
+    }
     if let Some(e) = limits.tracking_error_m {
         writeln!(out, "  tracking_error_m: {e:?}")?;
     }

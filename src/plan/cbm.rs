@@ -84,7 +84,7 @@ impl<'a> Search<'a> {
         progress: &mut dyn FnMut(&Progress),
     ) -> Result<Vec<Rc<GroupRouting>>, PlanError> {
         let root = self.root(progress)?;
-        if self.groups.len() == 1 || root.first.is_none() {
+        if root.first.is_none() {
             self.stats.ct_nodes_expanded = 1;
             return Ok(root.routings);
         }
@@ -149,7 +149,10 @@ impl<'a> Search<'a> {
             // Nearly every instance is solved well inside the default budget (the
             // formation change in 4 nodes, paper-scale instances in tens), while the
             // tight ones that explode the tree are small, which the encoding likes.
-            if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes {
+            // The encoding knows no vertical reach: under an ellipsoid the tree works alone.
+            if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes
+                && !self.space.has_stacking()
+            {
                 running = Some(start_exact(makespan));
             }
             if throttle.due() {
@@ -214,7 +217,7 @@ impl<'a> Search<'a> {
             };
             let paths = self.route(cells, &empty, makespan, &reservation, &mut on_routed)?;
             for p in &paths {
-                reservation.add_path(p);
+                reservation.add_path(p, self.space);
             }
             routings.push(Rc::new(GroupRouting {
                 min_horizon: horizons[g],
@@ -256,7 +259,7 @@ impl<'a> Search<'a> {
             .filter(|&(g, _)| g != group)
         {
             for p in &r.paths {
-                reservation.add_path(p);
+                reservation.add_path(p, self.space);
             }
         }
         let paths = self.route(
@@ -282,7 +285,7 @@ impl<'a> Search<'a> {
             .map(|p| arrival_step(p))
             .sum();
         let views: Vec<&[Vec<u32>]> = routings.iter().map(|r| r.paths.as_slice()).collect();
-        let (first, conflicts) = first_conflict(&views, self.space.len(), makespan);
+        let (first, conflicts) = first_conflict(&views, self.space, makespan);
         Node {
             constraints,
             routings,
@@ -503,6 +506,13 @@ fn branches(conflict: Conflict) -> Vec<(usize, Branch)> {
                 (a, Branch::Edge(from, to, step)),
                 (b, Branch::Edge(to, from, step)),
             ]
+        }
+        Conflict::Stacked {
+            groups: [a, b],
+            cells: [x, y],
+            step,
+        } => {
+            vec![(a, Branch::Vertex(x, step)), (b, Branch::Vertex(y, step))]
         }
         Conflict::Rotation { moves, step } => moves
             .into_iter()

@@ -1,6 +1,8 @@
-//! The first collision between drones of different groups.
+//! The first collision between drones of different groups, and between drones of
+//! any groups in cells stacked within an ellipsoid's vertical reach.
 
 use super::rotation::cycles_at;
+use super::space::Space;
 
 /// Two groups in one voxel at one step, trading voxels along an edge, or closing a
 /// rotation (see [`super::rotation`]).
@@ -18,7 +20,15 @@ pub(crate) enum Conflict {
         to: u32,
         step: u32,
     },
-    /// Each `(group, from, to)` move between `step` and `step + 1` enters the voxel the next one leaves.
+    /// Two drones (of different groups or of one: `groups` may repeat) in cells of
+    /// one column within the vertical reach at `step`.
+    Stacked {
+        groups: [usize; 2],
+        cells: [u32; 2],
+        step: u32,
+    },
+    /// Each `(group, from, to)` move between `step` and `step + 1` enters the voxel the
+    /// next one leaves, or one stacked with it.
     Rotation {
         moves: Vec<(usize, u32, u32)>,
         step: u32,
@@ -29,9 +39,10 @@ pub(crate) enum Conflict {
 /// every path padded with waits to `makespan`.
 pub(crate) fn first_conflict(
     routings: &[&[Vec<u32>]],
-    cells: usize,
+    space: &Space,
     makespan: u32,
 ) -> (Option<Conflict>, usize) {
+    let cells = space.len();
     // Drones flattened across groups: (group, path).
     let drones: Vec<(usize, &Vec<u32>)> = routings
         .iter()
@@ -56,6 +67,29 @@ pub(crate) fn first_conflict(
                 first.get_or_insert(Conflict::Vertex {
                     groups: [drones[other as usize].0, drones[d].0],
                     cell: c as u32,
+                    step: t as u32,
+                });
+            }
+        }
+        if space.has_stacking() {
+            let found = stacked_at(space, &at, drones.len(), t, &occupant);
+            count += found.len();
+            if let Some((a, b)) = found.first() {
+                first.get_or_insert(Conflict::Stacked {
+                    groups: [drones[*a].0, drones[*b].0],
+                    cells: [at(*a, t), at(*b, t)],
+                    step: t as u32,
+                });
+            }
+            if t < makespan as usize
+                && let Some(cycle) = stacked_cycle_at(space, &at, drones.len(), t, &occupant)
+            {
+                count += 1;
+                first.get_or_insert(Conflict::Rotation {
+                    moves: cycle
+                        .iter()
+                        .map(|&d| (drones[d].0, at(d, t), at(d, t + 1)))
+                        .collect(),
                     step: t as u32,
                 });
             }
@@ -89,4 +123,86 @@ pub(crate) fn first_conflict(
         }
     }
     (first, count)
+}
+
+/// Pairs of drones in stacked cells at `t` (each pair once). `occupant` gives the
+/// drone in every cell at `t`.
+fn stacked_at(
+    space: &Space,
+    at: &impl Fn(usize, usize) -> u32,
+    drones: usize,
+    t: usize,
+    occupant: &[u32],
+) -> Vec<(usize, usize)> {
+    let mut pairs = Vec::new();
+    for d in 0..drones {
+        let c = at(d, t);
+        for &other_cell in space.stacked(c) {
+            let other = occupant[other_cell as usize];
+            // Each pair once: from the drone in the lower-numbered cell.
+            if other != u32::MAX && other_cell > c {
+                pairs.push((d, other as usize));
+            }
+        }
+    }
+    pairs
+}
+
+/// A cycle of moves between `t` and `t + 1` in which every drone enters a cell the
+/// next one leaves or a cell stacked with it: no schedule can fly it (every drone
+/// waits for the next to be out of reach). Drone indices in cycle order; `None`
+/// when there is none. Cycles through shared cells only are also found here.
+fn stacked_cycle_at(
+    space: &Space,
+    at: &impl Fn(usize, usize) -> u32,
+    drones: usize,
+    t: usize,
+    occupant: &[u32],
+) -> Option<Vec<usize>> {
+    // Drone `d` waits for every other drone at `t` in the cell `d` enters or in one
+    // stacked with it (if that one stayed, it would be a stacked or vertex conflict).
+    let waits_for = |d: usize| -> Vec<usize> {
+        let next = at(d, t + 1);
+        if next == at(d, t) {
+            return Vec::new();
+        }
+        std::iter::once(next)
+            .chain(space.stacked(next).iter().copied())
+            .map(|c| occupant[c as usize])
+            .filter(|&o| o != u32::MAX && o as usize != d)
+            .map(|o| o as usize)
+            .collect()
+    };
+    const UNSEEN: u8 = 0;
+    const ON_STACK: u8 = 1;
+    const DONE: u8 = 2;
+    let mut state = vec![UNSEEN; drones];
+    for root in 0..drones {
+        if state[root] != UNSEEN {
+            continue;
+        }
+        // Iterative depth-first search; `path` is the current chain.
+        let mut path: Vec<(usize, Vec<usize>)> = vec![(root, waits_for(root))];
+        state[root] = ON_STACK;
+        while let Some((d, pending)) = path.last_mut() {
+            let d = *d;
+            match pending.pop() {
+                Some(next) if state[next] == ON_STACK => {
+                    let start = path.iter().position(|(x, _)| *x == next)?;
+                    return Some(path[start..].iter().map(|(x, _)| *x).collect());
+                }
+                Some(next) if state[next] == UNSEEN => {
+                    state[next] = ON_STACK;
+                    let waits = waits_for(next);
+                    path.push((next, waits));
+                }
+                Some(_) => {}
+                None => {
+                    state[d] = DONE;
+                    path.pop();
+                }
+            }
+        }
+    }
+    None
 }

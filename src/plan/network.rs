@@ -91,7 +91,9 @@ impl Reservation {
     }
 
     /// Adds a path, padded with waits at its end up to the reservation's horizon.
-    pub(crate) fn add_path(&mut self, path: &[u32]) {
+    /// Cells stacked with the path's within an ellipsoid's vertical reach count as
+    /// occupied too: meeting there is a conflict as well.
+    pub(crate) fn add_path(&mut self, path: &[u32], space: &Space) {
         let steps = self.occupied.len() / self.cells;
         let last = path.len().saturating_sub(1);
         for t in 0..steps {
@@ -99,6 +101,10 @@ impl Reservation {
             let i = t * self.cells + c as usize;
             self.occupied[i] = self.occupied[i].saturating_add(1);
             self.next[i] = path[(t + 1).min(last)];
+            for &stacked in space.stacked(c) {
+                let j = t * self.cells + stacked as usize;
+                self.occupied[j] = self.occupied[j].saturating_add(1);
+            }
         }
     }
 }

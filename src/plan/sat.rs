@@ -453,7 +453,7 @@ fn decide<'a>(
             continue;
         }
         let views: Vec<&[Vec<u32>]> = paths.iter().map(Vec::as_slice).collect();
-        if first_conflict(&views, space.len(), horizon).0.is_some() {
+        if first_conflict(&views, space, horizon).0.is_some() {
             // The encoding forbids every conflict CBM knows; one left is a bug here,
             // and the caller falls back to the conflict tree.
             return Decision::Stopped;
@@ -507,7 +507,7 @@ mod tests {
             SatOutcome::Solved { makespan, routings } => {
                 assert_eq!(makespan, 6, "each drone 4 moves plus a duck in and out");
                 let views: Vec<&[Vec<u32>]> = routings.iter().map(|r| r.paths.as_slice()).collect();
-                assert!(first_conflict(&views, space.len(), makespan).0.is_none());
+                assert!(first_conflict(&views, &space, makespan).0.is_none());
             }
             other => panic!("{other:?}"),
         }

@@ -97,7 +97,7 @@ pub(super) fn solve_from(
 ) -> Result<Solution, PlanError> {
     let started = Instant::now();
     let grid = &mission.airspace;
-    let space = Space::new(grid, options.seed);
+    let space = Space::with_reach(grid, options.seed, mission.limits.vertical_reach(grid));
     let mut paths: Vec<Vec<Vec<Voxel>>> = at
         .iter()
         .map(|g| g.iter().map(|&v| vec![v]).collect())

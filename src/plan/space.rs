@@ -1,6 +1,6 @@
 //! The free voxels as a compact graph, shared by every low-level search.
 
-use crate::world::{Cell, VoxelGrid};
+use crate::world::{Cell, VerticalReach, VoxelGrid};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use std::collections::VecDeque;
@@ -18,6 +18,10 @@ pub(crate) struct Space {
     compact_of: Vec<u32>,
     offsets: Vec<u32>,
     moves: Vec<u32>,
+    /// Per cell, the free cells of its column within an ellipsoid's vertical reach
+    /// (see [`VerticalReach`]): no two drones may be in related cells at one step.
+    /// Empty for a sphere.
+    stacked: Vec<Vec<u32>>,
 }
 
 impl Space {
@@ -45,7 +49,41 @@ impl Space {
             compact_of,
             offsets,
             moves,
+            stacked: Vec::new(),
         }
+    }
+
+    /// [`Space::new`] for drones separated by an ellipsoid of vertical `reach`:
+    /// cells of one column within it are related.
+    pub(crate) fn with_reach(world: &VoxelGrid, seed: u64, reach: VerticalReach) -> Self {
+        let mut space = Self::new(world, seed);
+        if reach.is_trivial(world) {
+            return space;
+        }
+        space.stacked = space
+            .world_of
+            .iter()
+            .map(|&c| {
+                reach
+                    .related_cells(world, world.voxel(c))
+                    .into_iter()
+                    .filter_map(|v| world.cell(v))
+                    .map(|cell| space.compact_of[cell])
+                    .filter(|&i| i != NONE)
+                    .collect()
+            })
+            .collect();
+        space
+    }
+
+    /// Whether any two distinct cells are related by a vertical reach.
+    pub(crate) fn has_stacking(&self) -> bool {
+        !self.stacked.is_empty()
+    }
+
+    /// The cells related to `c` by the vertical reach (not `c` itself).
+    pub(crate) fn stacked(&self, c: u32) -> &[u32] {
+        self.stacked.get(c as usize).map_or(&[], Vec::as_slice)
     }
 
     pub(crate) fn len(&self) -> usize {

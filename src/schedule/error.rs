@@ -49,6 +49,24 @@ pub enum ScheduleError {
         /// The other's.
         second: String,
     },
+    /// Two drones in cells of one column within the ellipsoid's vertical reach at
+    /// one step.
+    #[error(
+        "drones {first} and {second} are in voxels {first_voxel} and {second_voxel}, stacked \
+         within the ellipsoid's vertical reach, at step {step}"
+    )]
+    StackedConflict {
+        /// Where `first` is.
+        first_voxel: Voxel,
+        /// Where `second` is.
+        second_voxel: Voxel,
+        /// The plan step.
+        step: u32,
+        /// One drone's id.
+        first: String,
+        /// The other's.
+        second: String,
+    },
     /// Two drones trade voxels along one edge in one step.
     #[error("drones {first} and {second} swap voxels {from} and {to} at step {step}")]
     SwapConflict {

@@ -91,6 +91,47 @@
 //! from it (and, through the gates, everyone waiting for it), and reports whether the
 //! bound held.
 //!
+//! **Ellipsoids.** Downwash reaches further below a drone than beside it, so a mission
+//! may separate drones by an axis-aligned ellipsoid instead (`limits.separation`:
+//! horizontal radius `H`, vertical `V`; see [`crate::world::Separation`]). The schedule
+//! then keeps *setpoints* outside each other's bounding cylinder of the grown
+//! ellipsoid — horizontal distance `ρ ≥ H' = H + 2e` or vertical distance
+//! `|dz| ≥ V' = V + 2e` — which leaves vehicles within `e` of their setpoints `ρ ≥ H` or
+//! `|dz| ≥ V` apart, outside the ellipsoid either way. Validation demands `H' ≤ s`; `V'`
+//! may exceed the voxel size.
+//!
+//! *Projection.* Seen from above, the lattice is a square lattice of columns with
+//! spacing `s`; a horizontal move projects to an edge, a vertical move (and a rest) to
+//! a column's centre. Lemmas 1 and 2 hold in the plane with `H'` for `d`: two drones
+//! horizontally closer than `H'` are both within `h = (s + H') / 2` (horizontal path
+//! distance) of one column `c`. Horizontal moves carry their markers at
+//! `(s − H') / 2` from each end as before, so each of the two holds a cell of `c`:
+//! a horizontal mover the cell of `c` at its own layer, a vertical mover in `c` the
+//! cell(s) its vertical markers give it.
+//!
+//! *Vertical markers.* On a vertical move of length `ℓ` the markers sit `σ` from each
+//! end, `σ = max(0, (c − V') / 2)` with `c` the closest vertical spacing of cell
+//! centres (the voxel size, or the pad layer's gap below layer 0): with `σ < ℓ / 2`
+//! every point of the move holds an end, and a drone holding only the far end is
+//! within `σ` of it. So two drones less than `V'` apart vertically hold cells of `c`
+//! whose centres are less than `V' + 2σ` apart — the *vertical reach*
+//! ([`crate::world::VerticalReach`]). For `V' ≤ c` the reach relates no two distinct
+//! cells and the argument is the sphere's with `H'` across and `V'` along the column.
+//!
+//! *Holding the reach.* The planner never puts two drones in cells of one column
+//! within the reach at one step (a conflict it branches on like a vertex conflict,
+//! inside a group as well as between groups), nor lets drones each move into the
+//! reach of the cell the next one leaves in one step (a generalised rotation). The
+//! TPG then orders every two visits of cells within reach of each other, as it orders
+//! visits of one cell: from the earlier visitor's `Leave` to the later one's `Enter`
+//! (the latest earlier visitor of each cell in reach suffices, as before). So no two
+//! drones ever hold cells within reach at once, and by the two steps above no two
+//! setpoints are ever inside each other's cylinder. Climbs from and descents to the
+//! ground happen below a pad-layer cell the drone holds; any point within `V'` of
+//! them above is within `V'` of that cell, so the same ordering covers them, and
+//! drones standing on pads are `s ≥ H'` apart horizontally. The STN is unchanged:
+//! the extra edges are difference constraints like every type-2 edge.
+//!
 //! **Cycles.** A rotation (drones following each other round a loop in one step) and a
 //! swap make the TPG cyclic: no precedence schedule can execute them with a safety
 //! distance, and [`solve`] reports [`ScheduleError::CyclicPlan`].

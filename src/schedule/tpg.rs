@@ -5,7 +5,7 @@
 use super::ScheduleError;
 use crate::mission::{Limits, Mission};
 use crate::plan::DiscretePlan;
-use crate::world::{Voxel, VoxelGrid};
+use crate::world::{VerticalReach, Voxel, VoxelGrid};
 use serde::{Deserialize, Serialize};
 
 /// What happens at an event.
@@ -97,6 +97,12 @@ pub struct Tpg {
     /// (voxel size + separation) / 2: a drone holds a voxel while its path distance
     /// to that visit of the voxel's centre is below this.
     pub hold_radius_m: f64,
+    /// Under an ellipsoid: where the markers sit on vertical moves, from each end
+    /// (see [`VerticalReach`]); horizontal moves keep `marker_offset_m`. `None` for
+    /// a sphere, whose markers sit `(length − separation) / 2` from each end of
+    /// every move.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical_marker_m: Option<f64>,
     /// Speed limit the schedule's runs obey, m/s.
     pub max_speed_mps: f64,
     /// Acceleration limit the schedule's runs obey, m/s².
@@ -177,7 +183,9 @@ pub fn build_with(
             voxel_size_m: s,
         });
     }
-    if let Some(pad_z_m) = world.pad_layer_z_m() {
+    // Under an ellipsoid vertical spacing is kept by the vertical reach instead.
+    let reach = limits.vertical_reach(world);
+    if let Some(pad_z_m) = world.pad_layer_z_m().filter(|_| !limits.is_ellipsoid()) {
         let gap_m = world.center_m(Voxel::new(0, 0, 0)).z - pad_z_m;
         if gap_m < d {
             return Err(ScheduleError::SafetyDistanceTooLarge {
@@ -187,17 +195,25 @@ pub fn build_with(
         }
     }
     let delta = 0.5 * (s - d);
+    let vertical_marker_m = limits.is_ellipsoid().then_some(reach.vertical_marker_m);
+    // Markers sit (length − d) / 2 from each end of a move (moves into and out of
+    // the pad layer may be shorter or longer than a voxel), except on an
+    // ellipsoid's vertical moves.
+    let marker_m = |length_m: f64, vertical: bool| match vertical_marker_m {
+        Some(sigma_m) if vertical => sigma_m,
+        _ => 0.5 * (length_m - d).max(0.0),
+    };
     let mut drones = Vec::with_capacity(plan.drones.len());
     let mut visits = Vec::with_capacity(plan.drones.len());
     for drone in &plan.drones {
-        let (events, drone_visits) = drone_events(world, plan.makespan_steps, drone, delta)?;
+        let (events, drone_visits) = drone_events(world, plan.makespan_steps, drone, &marker_m)?;
         drones.push(TpgDrone {
             id: drone.id.clone(),
             events,
         });
         visits.push(drone_visits);
     }
-    let candidates = cross_candidates(world, plan, &visits)?;
+    let candidates = cross_candidates(world, plan, &visits, reach)?;
     let mut cross_edges = minimal_edges(candidates);
     cross_edges.extend(hold_edges(plan, &visits, &mut drones));
     cross_edges.sort_unstable_by_key(|e| (e.to, e.from));
@@ -207,6 +223,7 @@ pub fn build_with(
         safety_distance_m: limits.safety_distance_m,
         marker_offset_m: delta,
         hold_radius_m: 0.5 * (s + d),
+        vertical_marker_m,
         max_speed_mps: limits.max_speed_mps,
         max_accel_mps2: limits.max_accel_mps2,
         max_jerk_mps3: limits.max_jerk_mps3,
@@ -227,7 +244,7 @@ fn drone_events(
     world: &VoxelGrid,
     makespan_steps: u32,
     drone: &crate::plan::DronePlan,
-    delta: f64,
+    marker_m: &dyn Fn(f64, bool) -> f64,
 ) -> Result<(Vec<Event>, Vec<Visit>), ScheduleError> {
     let path = &drone.path;
     if path.len() != makespan_steps as usize + 1 {
@@ -240,7 +257,6 @@ fn drone_events(
             ),
         ));
     }
-    let d = world.voxel_size_m() - 2.0 * delta;
     let mut visits: Vec<Visit> = Vec::new();
     for (step, &voxel) in path.iter().enumerate() {
         let step = step as u32;
@@ -281,10 +297,8 @@ fn drone_events(
     for k in 1..visits.len() {
         let (from, to) = (visits[k - 1].voxel, visits[k].voxel);
         let (a, b) = (world.center_m(from), world.center_m(to));
-        // Moves are one voxel long except into and out of the pad layer, whose gap to
-        // layer 0 may differ: markers sit (length − d) / 2 from each end of any move.
         let s = (b - a).norm();
-        let delta = 0.5 * (s - d).max(0.0);
+        let delta = marker_m(s, from.z != to.z);
         let dir = (b - a) / s;
         let step = visits[k].first_step;
         let at = |offset_m: f64| -> [f64; 3] { (a + dir * offset_m).into() };
@@ -380,10 +394,15 @@ fn direction(from: Voxel, to: Voxel) -> [i64; 3] {
 /// Type-2 candidates: for every visit of a voxel, an edge from the previous visitor's
 /// `Leave` marker to this visitor's `Enter` marker. Consecutive visits suffice: earlier
 /// visitors are ordered before the previous one already.
+///
+/// Under an ellipsoid a visit also waits for the latest earlier visitor of every
+/// cell stacked with it (within the vertical reach): those are held like the cell
+/// itself.
 fn cross_candidates(
     world: &VoxelGrid,
     plan: &DiscretePlan,
     visits: &[Vec<Visit>],
+    reach: VerticalReach,
 ) -> Result<Vec<CrossEdge>, ScheduleError> {
     let id = |i: u32| plan.drones[i as usize].id.clone();
     // Entering visits bucketed by the step they begin, so voxels are claimed in time order.
@@ -442,6 +461,38 @@ fn cross_candidates(
                             delay_s: 0.0,
                         });
                     }
+                }
+            }
+            for stacked in reach.related_cells(world, visit.voxel) {
+                let Some((i, k)) = world.cell(stacked).and_then(|c| last[c]) else {
+                    continue;
+                };
+                if i == j {
+                    continue; // ordered by the drone's own path
+                }
+                let prev = &visits[i as usize][k as usize];
+                if prev.last_step >= step {
+                    return Err(ScheduleError::StackedConflict {
+                        first_voxel: prev.voxel,
+                        second_voxel: visit.voxel,
+                        step,
+                        first: id(i),
+                        second: id(j),
+                    });
+                }
+                if let Some(leave) = prev.leave {
+                    edges.push(CrossEdge {
+                        from: EventId {
+                            drone: i,
+                            index: leave,
+                        },
+                        to: EventId {
+                            drone: j,
+                            index: visit.enter,
+                        },
+                        voxel: visit.voxel,
+                        delay_s: 0.0,
+                    });
                 }
             }
             last[cell] = Some((j, m));

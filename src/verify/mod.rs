@@ -23,6 +23,17 @@
 //! still (its streamed setpoint does not change), so no margin is charged for it; this
 //! lets drones parked exactly the safety distance apart pass.
 //!
+//! **Ellipsoids.** Under an ellipsoidal separation the schedule promises more than
+//! a distance: setpoints stay outside the *bounding cylinder* of the ellipsoid grown by
+//! both drones' tracking error — horizontal distance `ρ ≥ H' = H + 2e` or vertical
+//! distance `|dz| ≥ V' = V + 2e` — which keeps vehicles within `e` of their
+//! setpoints outside the ellipsoid itself (the grown ellipsoid alone would not: it is
+//! smaller than the ellipsoid plus a ball of `2e`). The checker measures that:
+//! the scaled distance `max(ρ / H', |dz| / V')`, separated when at least 1, at the
+//! samples, exactly on the chords (the scaled distance of a linear relative motion
+//! is convex in time), and as a bound that charges each drone's chord deviation
+//! over `min(H', V')` ([`ScaledSeparation`]).
+//!
 //! **Scale.** Drones are hashed into cubes of the search radius (plus the motion within one
 //! interval) at each sample time and only drones in neighbouring cubes are compared: about
 //! `O(drones · samples)`, not `O(drones² · samples)`.
@@ -86,8 +97,32 @@ pub struct SeparationReport {
     /// Highest jerk of any drone, m/s³.
     #[serde(default)]
     pub max_jerk_mps3: f64,
+    /// Under an ellipsoidal separation, the scaled distances the schedule
+    /// promises (see the module docs); `None` for a sphere.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scaled: Option<ScaledSeparation>,
     /// Human-readable violations; empty means every limit holds.
     pub violations: Vec<String>,
+}
+
+/// Scaled distances of the setpoints' bounding cylinders: `max(ρ / H', |dz| / V')`,
+/// separated when at least 1.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ScaledSeparation {
+    /// The cylinder's radius, metres: the horizontal separation plus twice the
+    /// tracking error.
+    pub horizontal_m: f64,
+    /// The cylinder's half height, metres: the vertical separation plus twice the
+    /// tracking error.
+    pub vertical_m: f64,
+    /// Smallest scaled distance at a common sample time.
+    pub min_samples: f64,
+    /// Smallest scaled distance of the linearly interpolated motions.
+    pub min_interpolated: f64,
+    /// Guaranteed lower bound on the true continuous scaled distance.
+    pub min_bound: f64,
+    /// The pair behind the bound, if any pair came within the search radius.
+    pub closest: Option<ClosestPair>,
 }
 
 impl SeparationReport {
@@ -138,7 +173,7 @@ pub enum CheckError {
 ///
 /// ```
 /// use swarmctl::mission::Limits;
-/// let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, max_jerk_mps3: 5.0, safety_distance_m: 0.5, tracking_error_m: 0.0 };
+/// let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, max_jerk_mps3: 5.0, safety_distance_m: 0.5, vertical_separation_m: None, tracking_error_m: 0.0 };
 /// let still = |x: f64| (0..5).map(|k| [k as f64 * 0.1, x, 0.0, 0.0]).collect::<Vec<_>>();
 /// let report = swarmctl::verify::check(&[still(0.0), still(0.4)], &limits).unwrap();
 /// assert!((report.min_separation_samples_m - 0.4).abs() < 1e-12);
@@ -157,7 +192,29 @@ pub fn check(samples: &[Vec<[f64; 4]>], limits: &Limits) -> Result<SeparationRep
     let max_jerk_mps3 = drones.iter().map(|d| d.max_jerk_mps3).fold(0.0, f64::max);
     let search_radius_m = 2.0 * limits.setpoint_separation_m();
     let margin_m = limits.max_accel_mps2 * period_s * period_s / 8.0;
-    let sep = separation(samples, &times, search_radius_m, max_speed_mps, margin_m);
+    let sep = separation(
+        samples,
+        &times,
+        search_radius_m,
+        max_speed_mps,
+        margin_m,
+        Metric::Euclid,
+    );
+    let scaled = limits.is_ellipsoid().then(|| {
+        let grown = limits.setpoint_separation();
+        let (h, v) = (grown.horizontal_m, grown.vertical_m);
+        let metric = Metric::Cylinder { h, v };
+        let radius_m = 2.0 * h.max(v);
+        let s = separation(samples, &times, radius_m, max_speed_mps, margin_m, metric);
+        ScaledSeparation {
+            horizontal_m: h,
+            vertical_m: v,
+            min_samples: s.samples_m,
+            min_interpolated: s.interpolated_m,
+            min_bound: s.bound_m,
+            closest: s.closest,
+        }
+    });
     let mut report = SeparationReport {
         search_radius_m,
         min_separation_samples_m: sep.samples_m,
@@ -168,6 +225,7 @@ pub fn check(samples: &[Vec<[f64; 4]>], limits: &Limits) -> Result<SeparationRep
         max_speed_mps,
         max_accel_mps2,
         max_jerk_mps3,
+        scaled,
         violations: Vec::new(),
     };
     report.violations = violations(&report, limits, period_s);
@@ -254,7 +312,91 @@ fn drone_report(s: &[[f64; 4]], period_s: f64) -> DroneReport {
     }
 }
 
+/// How two drones' relative position is measured.
+#[derive(Debug, Clone, Copy)]
+enum Metric {
+    /// Distance, metres.
+    Euclid,
+    /// `max(ρ / h, |dz| / v)`: at least 1 outside the cylinder of radius `h` and
+    /// half height `v`.
+    Cylinder { h: f64, v: f64 },
+}
+
+impl Metric {
+    fn of(self, r: [f64; 3]) -> f64 {
+        match self {
+            Metric::Euclid => (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt(),
+            Metric::Cylinder { h, v } => {
+                ((r[0] * r[0] + r[1] * r[1]).sqrt() / h).max(r[2].abs() / v)
+            }
+        }
+    }
+
+    /// The least value on the chord `r0 + u·dr`, `u` in `[0, 1]`, and where. Both
+    /// metrics are convex along a line, so a golden-section search converges on the
+    /// minimum of the cylinder's; the Euclidean one is solved in closed form.
+    fn min_on_chord(self, r0: [f64; 3], dr: [f64; 3]) -> (f64, f64) {
+        let at = |u: f64| -> [f64; 3] { std::array::from_fn(|c| r0[c] + u * dr[c]) };
+        match self {
+            Metric::Euclid => {
+                let dd = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                let u = if dd > 0.0 {
+                    (-(r0[0] * dr[0] + r0[1] * dr[1] + r0[2] * dr[2]) / dd).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (self.of(at(u)), u)
+            }
+            Metric::Cylinder { .. } => {
+                const INVERSE_PHI: f64 = 0.618_033_988_749_894_8;
+                let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+                // 60 golden-section steps shrink the bracket below 1e-12.
+                for _ in 0..60 {
+                    let a = hi - INVERSE_PHI * (hi - lo);
+                    let b = lo + INVERSE_PHI * (hi - lo);
+                    if self.of(at(a)) <= self.of(at(b)) {
+                        hi = b;
+                    } else {
+                        lo = a;
+                    }
+                }
+                let u = 0.5 * (lo + hi);
+                [
+                    (self.of(at(0.0)), 0.0),
+                    (self.of(at(1.0)), 1.0),
+                    (self.of(at(u)), u),
+                ]
+                .into_iter()
+                .fold(
+                    (f64::INFINITY, 0.0),
+                    |best, x| if x.0 < best.0 { x } else { best },
+                )
+            }
+        }
+    }
+
+    /// The least value of two drones at least `radius_m` apart: what pairs the
+    /// search does not examine are reported as.
+    fn floor(self, radius_m: f64) -> f64 {
+        match self {
+            Metric::Euclid => radius_m,
+            // ρ² + dz² ≥ r² puts ρ or |dz| at r/√2 or more.
+            Metric::Cylinder { h, v } => radius_m / (std::f64::consts::SQRT_2 * h.max(v)),
+        }
+    }
+
+    /// How much the value may drop when each drone strays `deviation_m` in all from
+    /// its chord.
+    fn slack(self, deviation_m: f64) -> f64 {
+        match self {
+            Metric::Euclid => deviation_m,
+            Metric::Cylinder { h, v } => deviation_m / h.min(v),
+        }
+    }
+}
+
 struct Separation {
+    metric: Metric,
     samples_m: f64,
     interpolated_m: f64,
     bound_m: f64,
@@ -270,11 +412,13 @@ fn separation(
     radius_m: f64,
     speed_mps: f64,
     margin_m: f64,
+    metric: Metric,
 ) -> Separation {
     let mut out = Separation {
-        samples_m: radius_m,
-        interpolated_m: radius_m,
-        bound_m: radius_m,
+        metric,
+        samples_m: metric.floor(radius_m),
+        interpolated_m: metric.floor(radius_m),
+        bound_m: metric.floor(radius_m),
         margin_m,
         closest: None,
     };
@@ -331,31 +475,25 @@ fn key(s: &[f64; 4], cell_m: f64) -> [i64; 3] {
 /// Distance of drones `i` and `j` at sample `k` and over the interval `[k, k + 1]`.
 fn pair(samples: &[Vec<[f64; 4]>], i: usize, j: usize, k: usize, out: &mut Separation) {
     let (a0, b0) = (&samples[i][k], &samples[j][k]);
-    let d0 = dist(a0, b0);
+    let r0: [f64; 3] = std::array::from_fn(|c| a0[c + 1] - b0[c + 1]);
+    let d0 = out.metric.of(r0);
     if d0 < out.samples_m {
         out.samples_m = d0;
     }
     let (mut best, mut best_t) = (d0, a0[0]);
     if let (Some(a1), Some(b1)) = (samples[i].get(k + 1), samples[j].get(k + 1)) {
         // Relative position r(u) = r0 + u (r1 - r0), u in [0, 1].
-        let r0: [f64; 3] = std::array::from_fn(|c| a0[c + 1] - b0[c + 1]);
         let r1: [f64; 3] = std::array::from_fn(|c| a1[c + 1] - b1[c + 1]);
         let dr: [f64; 3] = std::array::from_fn(|c| r1[c] - r0[c]);
-        let dd = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-        let u = if dd > 0.0 {
-            (-(r0[0] * dr[0] + r0[1] * dr[1] + r0[2] * dr[2]) / dd).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let r: [f64; 3] = std::array::from_fn(|c| r0[c] + u * dr[c]);
-        let d = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+        let (d, u) = out.metric.min_on_chord(r0, dr);
         if d < best {
             best = d;
             best_t = a0[0] + u * (a1[0] - a0[0]);
         }
     }
     out.interpolated_m = out.interpolated_m.min(best);
-    let bound = best - margin(&samples[i], k, out.margin_m) - margin(&samples[j], k, out.margin_m);
+    let deviation_m = margin(&samples[i], k, out.margin_m) + margin(&samples[j], k, out.margin_m);
+    let bound = best - out.metric.slack(deviation_m);
     if bound < out.bound_m {
         out.bound_m = bound;
         out.closest = Some(ClosestPair {
@@ -380,7 +518,29 @@ fn margin(s: &[[f64; 4]], k: usize, margin_m: f64) -> f64 {
 fn violations(report: &SeparationReport, limits: &Limits, period_s: f64) -> Vec<String> {
     let mut v = Vec::new();
     let separation_m = limits.setpoint_separation_m();
-    if report.min_separation_bound_m < separation_m - TOLERANCE {
+    if let Some(scaled) = &report.scaled {
+        if scaled.min_bound < 1.0 - TOLERANCE {
+            let who = scaled
+                .closest
+                .as_ref()
+                .map(|c| {
+                    format!(
+                        " (drones #{} and #{} near t = {:.3} s)",
+                        c.first, c.second, c.time_s
+                    )
+                })
+                .unwrap_or_default();
+            v.push(format!(
+                "scaled separation may drop to {:.4}, below 1: setpoints inside each other's cylinder of radius {:.3} m and half height {:.3} m (the separation ellipsoid {} × {} m grown by twice the tracking error {} m){who}",
+                scaled.min_bound,
+                scaled.horizontal_m,
+                scaled.vertical_m,
+                limits.safety_distance_m,
+                limits.vertical_separation_m.unwrap_or(limits.safety_distance_m),
+                limits.tracking_error_m
+            ));
+        }
+    } else if report.min_separation_bound_m < separation_m - TOLERANCE {
         let who = report
             .closest
             .as_ref()

@@ -6,6 +6,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod ellipsoid;
 mod fuzz_plan;
 mod ground_to_ground;
 mod import_inputs;

@@ -115,7 +115,7 @@ proptest! {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let world = VoxelGrid::new([3, 3, 2], voxel_m, [0.0, 0.0, 1.0]);
         let plan = random_plan(&mut rng, &world, drones, steps);
-        let limits = Limits { max_speed_mps: speed, max_accel_mps2: accel, max_jerk_mps3: 5.0, safety_distance_m: ratio * voxel_m, tracking_error_m: 0.0 };
+        let limits = Limits { max_speed_mps: speed, max_accel_mps2: accel, max_jerk_mps3: 5.0, safety_distance_m: ratio * voxel_m, vertical_separation_m: None, tracking_error_m: 0.0 };
         let tpg = schedule::build_with(&world, &limits, &plan).expect("valid plan");
         let s = schedule::solve(&tpg).expect("acyclic plan");
         let t = trajectory::from_schedule(&s);
@@ -163,7 +163,7 @@ proptest! {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let world = VoxelGrid::new([3, 3, 1], 1.0, [0.0; 3]);
         let plan = random_plan(&mut rng, &world, drones, steps);
-        let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, max_jerk_mps3: 5.0, safety_distance_m: 0.5, tracking_error_m: 0.0 };
+        let limits = Limits { max_speed_mps: 1.0, max_accel_mps2: 1.0, max_jerk_mps3: 5.0, safety_distance_m: 0.5, vertical_separation_m: None, tracking_error_m: 0.0 };
         let tpg = schedule::build_with(&world, &limits, &plan).unwrap();
         for a in &tpg.cross_edges {
             for b in &tpg.cross_edges {

@@ -73,6 +73,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         c.max_jerk_mps3,
         mission.limits.max_jerk_mps3
     );
+    if let Some(scaled) = &c.scaled {
+        println!(
+            "  ellipsoid       scaled separation ≥ {:.3} of setpoints (separated at 1: outside each other's cylinder {:.3} m across, {:.3} m up and down — the ellipsoid {:.3} × {:.3} m grown by twice the tracking error {:.3} m)",
+            scaled.min_bound,
+            scaled.horizontal_m,
+            scaled.vertical_m,
+            mission.limits.safety_distance_m,
+            mission
+                .limits
+                .vertical_separation_m
+                .unwrap_or(mission.limits.safety_distance_m),
+            mission.limits.tracking_error_m
+        );
+    }
     if let Some(path) = &args.output {
         let json = serde_json::to_string(&compiled)?;
         std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;

@@ -14,6 +14,7 @@ mod pads;
 mod reachability;
 mod report;
 mod settings;
+mod stacking;
 mod stages;
 mod world;
 
@@ -23,13 +24,14 @@ use super::types::{DEFAULT_MAX_JERK_MPS3, Limits, LinkSettings, Mission};
 use report::Report;
 
 pub use bounds::{MAX_DIMENSION, MAX_VOXELS};
+pub use settings::MAX_VERTICAL_LAYERS;
 
 /// Checks a parsed mission. Returns every problem found, not just the first.
 pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     let mut report = Report::default();
     settings::check_name(&file.name, &mut report);
     let dimensions = settings::check_world(&file.world, &mut report);
-    settings::check_limits(&file.limits, &mut report);
+    settings::check_limits(&file.limits, file.world.voxel_size_m, &mut report);
     let signing = settings::check_link(&file.link, &mut report);
     if file.groups.is_empty() {
         report.add("groups", "a mission needs at least one group of drones");
@@ -40,7 +42,11 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     let bounds = world::Bounds::new(dimensions);
     let world = world::build(&file.world, &bounds, &mut report);
     let mut groups = groups::check_groups(&file.groups, &world, &bounds, &mut report);
-    let pad_height_m = pads::pad_height(&file.world, file.limits.safety_distance_m, &mut report);
+    let pad_height_m = pads::pad_height(
+        &file.world,
+        file.limits.horizontal_separation_m(),
+        &mut report,
+    );
     pads::assign_pads(&mut groups, &mut report);
     let stages = stages::check_stages(&file.stages, &groups, &world, &bounds, &mut report);
     let landing = file.landing.unwrap_or_default();
@@ -61,18 +67,24 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         return Err(report.into_problems());
     }
     let (limits, link) = (&file.limits, &file.link);
+    let limits = Limits {
+        max_speed_mps: limits.max_speed_mps,
+        max_accel_mps2: limits.max_accel_mps2,
+        max_jerk_mps3: limits.max_jerk_mps3.unwrap_or(DEFAULT_MAX_JERK_MPS3),
+        safety_distance_m: limits.horizontal_separation_m(),
+        vertical_separation_m: limits.separation.map(|e| e.vertical_m),
+        tracking_error_m,
+    };
+    stacking::check_stacking(&airspace, &limits, &groups, &stages, &mut report);
+    if !report.is_empty() {
+        return Err(report.into_problems());
+    }
     Ok(Mission {
         name: file.name.clone(),
         description: file.description.clone(),
         world,
         airspace,
-        limits: Limits {
-            max_speed_mps: limits.max_speed_mps,
-            max_accel_mps2: limits.max_accel_mps2,
-            max_jerk_mps3: limits.max_jerk_mps3.unwrap_or(DEFAULT_MAX_JERK_MPS3),
-            safety_distance_m: limits.safety_distance_m,
-            tracking_error_m,
-        },
+        limits,
         geo_origin: file.world.geo_origin,
         link: LinkSettings {
             autopilot: link.autopilot,

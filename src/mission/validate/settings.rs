@@ -55,20 +55,34 @@ const TRACKING_MARGIN_M: f64 = 0.01;
 /// closest two cell centres are the voxel size or the pad layer's gap below layer 0
 /// apart, so `d + 2e` must fit in both. Reports a written value that does not fit,
 /// with the numbers.
+///
+/// An ellipsoid's horizontal radius needs only the voxel size (its vertical reach
+/// is kept by the planner, see [`crate::world::VerticalReach`]); its default
+/// tracking error also keeps `V + 2e` within the voxel size when `V` alone fits,
+/// so an ellipsoid flatter than a voxel relates no two layers of the world (only,
+/// when its gap is small, the pad layer and layer 0).
 pub(super) fn tracking_error(
     limits: &LimitsSpec,
     voxel_size_m: f64,
     pad_gap_m: f64,
     report: &mut Report,
 ) -> f64 {
-    let d = limits.safety_distance_m;
-    let spacing_m = voxel_size_m.min(pad_gap_m);
+    let d = limits.horizontal_separation_m();
+    let spacing_m = match limits.separation {
+        Some(_) => voxel_size_m,
+        None => voxel_size_m.min(pad_gap_m),
+    };
     // Leave a centimetre of the spacing unused: setpoints of drones in neighbouring
     // cells then never sit exactly at the separation, which a sampled check (and
     // a real controller) cannot tell from just below it.
     let room_m = (0.5 * (spacing_m - d) - TRACKING_MARGIN_M).max(0.0);
     let Some(e) = limits.tracking_error_m else {
-        return DEFAULT_TRACKING_ERROR_M.min(room_m);
+        let vertical_room_m = limits
+            .separation
+            .map(|sep| 0.5 * (voxel_size_m - sep.vertical_m) - TRACKING_MARGIN_M)
+            .filter(|&room| room > 0.0)
+            .unwrap_or(f64::INFINITY);
+        return DEFAULT_TRACKING_ERROR_M.min(room_m).min(vertical_room_m);
     };
     if !(e.is_finite() && e >= 0.0) {
         report.add(
@@ -126,8 +140,10 @@ fn check_dimensions(dimensions: [i64; 3], report: &mut Report) -> Option<[u32; 3
     Some(extents)
 }
 
-/// Speed, acceleration, jerk and safety distance must all be positive.
-pub(super) fn check_limits(limits: &LimitsSpec, report: &mut Report) {
+/// Speed, acceleration, jerk and the separation must all be positive, the
+/// separation given once (a sphere or an ellipsoid) and an ellipsoid's height
+/// within [`MAX_VERTICAL_LAYERS`] voxels.
+pub(super) fn check_limits(limits: &LimitsSpec, voxel_size_m: f64, report: &mut Report) {
     check_positive(report, "limits.max_speed_mps", limits.max_speed_mps, "m/s");
     check_positive(
         report,
@@ -138,13 +154,38 @@ pub(super) fn check_limits(limits: &LimitsSpec, report: &mut Report) {
     if let Some(jerk) = limits.max_jerk_mps3 {
         check_positive(report, "limits.max_jerk_mps3", jerk, "m/s³");
     }
-    check_positive(
-        report,
-        "limits.safety_distance_m",
-        limits.safety_distance_m,
-        "m",
-    );
+    match (limits.safety_distance_m, limits.separation) {
+        (Some(d), None) => check_positive(report, "limits.safety_distance_m", d, "m"),
+        (None, Some(sep)) => {
+            check_positive(report, "limits.separation.horizontal_m", sep.horizontal_m, "m");
+            check_positive(report, "limits.separation.vertical_m", sep.vertical_m, "m");
+            let s = voxel_size_m;
+            let most_m = f64::from(MAX_VERTICAL_LAYERS) * s;
+            if s.is_finite() && s > 0.0 && sep.vertical_m > most_m {
+                report.add(
+                    "limits.separation.vertical_m",
+                    format!(
+                        "{:.2} m is more than {MAX_VERTICAL_LAYERS} voxel sizes ({most_m:.2} m): every drone would keep that many layers of its column to itself, which few missions can fly; use larger voxels",
+                        sep.vertical_m
+                    ),
+                );
+            }
+        }
+        (Some(_), Some(_)) => report.add(
+            "limits",
+            "give safety_distance_m (a sphere) or separation (an ellipsoid), not both",
+        ),
+        (None, None) => report.add(
+            "limits",
+            "missing the separation: give safety_distance_m (a sphere, metres) or separation: { horizontal_m, vertical_m } (an ellipsoid)",
+        ),
+    }
 }
+
+/// How many voxel sizes an ellipsoid's vertical radius may span. The safety
+/// argument holds for any height; past this a drone keeps so much of its column to
+/// itself that a larger voxel is the better model.
+pub const MAX_VERTICAL_LAYERS: u32 = 4;
 
 /// Checks the setpoint rate, the link timeout and the signing key source; returns
 /// the key source when signing is asked for and well specified.
