@@ -5,7 +5,9 @@
 //! pad to pad with its sphere (`safety_distance_m: 0.25`) and with the ellipsoid
 //! `{ horizontal_m: 0.25, vertical_m: 0.75 }` (its default tracking error 0.115 m:
 //! the pad layer and layer 0 of a column are within reach). Prints each makespan
-//! beside the sphere's.
+//! beside the sphere's; an instance the ellipsoid does not plan within
+//! [`PROBE_S`] is reported and left out of the timings (seed 5's takeoff leg:
+//! see the README's Downwash section).
 
 // A benchmark whose instance cannot be built should stop at once, loudly.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -31,8 +33,15 @@ fn paper(seed: u64, separation: Option<SeparationSpec>) -> MissionFile {
     file
 }
 
+/// Seconds an instance may take to plan once before it is left out.
+const PROBE_S: u64 = 20;
+
 fn bench(c: &mut Criterion) {
     let options = PlanOptions::default();
+    let probe = PlanOptions {
+        deadline: std::time::Duration::from_secs(PROBE_S),
+        ..PlanOptions::default()
+    };
     let mut group = c.benchmark_group("plan pad to pad, paper setting");
     group.sample_size(10);
     let downwash = SeparationSpec {
@@ -42,15 +51,23 @@ fn bench(c: &mut Criterion) {
     for seed in 1..=5 {
         let sphere = mission::validate(&paper(seed, None)).expect("valid");
         let ellipsoid = mission::validate(&paper(seed, Some(downwash))).expect("valid");
-        let steps = |m| plan::solve(m, &options).expect("plan").plan.makespan_steps;
+        let steps = |m| plan::solve(m, &probe).map(|s| s.plan.makespan_steps);
+        let (by_sphere, by_ellipsoid) = (steps(&sphere), steps(&ellipsoid));
         println!(
             "seed {seed}: makespan {} steps with the sphere, {} with the ellipsoid 0.25 × 0.75 m",
-            steps(&sphere),
-            steps(&ellipsoid)
+            by_sphere
+                .as_ref()
+                .map_or("none".to_string(), u32::to_string),
+            by_ellipsoid
+                .as_ref()
+                .map_or_else(|e| format!("none ({e})"), u32::to_string)
         );
         group.bench_with_input(BenchmarkId::new("sphere", seed), &sphere, |b, m| {
             b.iter(|| black_box(plan::solve(m, &options).expect("plan")));
         });
+        if by_ellipsoid.is_err() {
+            continue;
+        }
         group.bench_with_input(
             BenchmarkId::new("ellipsoid 0.25 x 0.75", seed),
             &ellipsoid,

@@ -149,10 +149,7 @@ impl<'a> Search<'a> {
             // Nearly every instance is solved well inside the default budget (the
             // formation change in 4 nodes, paper-scale instances in tens), while the
             // tight ones that explode the tree are small, which the encoding likes.
-            // The encoding knows no vertical reach: under an ellipsoid the tree works alone.
-            if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes
-                && !self.space.has_stacking()
-            {
+            if Some(self.stats.ct_nodes_expanded) == self.options.exact_after_ct_nodes {
                 running = Some(start_exact(makespan));
             }
             if throttle.due() {

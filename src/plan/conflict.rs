@@ -152,7 +152,7 @@ fn stacked_at(
 /// next one leaves or a cell stacked with it: no schedule can fly it (every drone
 /// waits for the next to be out of reach). Drone indices in cycle order; `None`
 /// when there is none. Cycles through shared cells only are also found here.
-fn stacked_cycle_at(
+pub(crate) fn stacked_cycle_at(
     space: &Space,
     at: &impl Fn(usize, usize) -> u32,
     drones: usize,

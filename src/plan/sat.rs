@@ -30,11 +30,17 @@
 //!   that set of moves; then the solver runs again. Forbidding swaps and cycles
 //!   inside a group loses no plan for the same reason.
 //!
+//! - Under an ellipsoidal separation (cells of one column within its vertical
+//!   reach, see [`Space::stacked`]): at most one drone in any two related cells
+//!   at a step, of any groups (one group included); cycles through the reach
+//!   (each drone entering the reach of the cell the next one leaves) are cut
+//!   lazily like rotations.
+//!
 //! So a horizon is satisfiable exactly when CBM's model has a plan of that makespan:
 //! refuting `T₀ … T − 1` and satisfying `T` proves `T` optimal given a lower bound
 //! `T₀`. The solver is batsat, a pure-Rust MiniSat.
 
-use super::conflict::first_conflict;
+use super::conflict::{first_conflict, stacked_cycle_at};
 use super::low_level::GroupRouting;
 use super::network::GroupCells;
 use super::rotation::{cycles_at, remove_cycles};
@@ -271,7 +277,29 @@ impl<'a> Encoding<'a> {
                 }
             }
         }
+        self.forbid_stacking();
         true
+    }
+
+    /// At most one drone in any two cells within the vertical reach at a step,
+    /// whatever its group (two of one group included).
+    fn forbid_stacking(&mut self) {
+        let space = self.space;
+        for t in 0..=self.horizon as usize {
+            for c in 0..space.len() as u32 {
+                for &r in space.stacked(c).iter().filter(|&&r| r > c) {
+                    let both: Vec<Var> = self
+                        .present
+                        .iter()
+                        .flat_map(|g| [g[t][c as usize], g[t][r as usize]])
+                        .flatten()
+                        .collect();
+                    if both.len() > 1 {
+                        self.at_most_one(&both);
+                    }
+                }
+            }
+        }
     }
 
     fn make_moves(&mut self) {
@@ -422,6 +450,52 @@ impl<'a> Encoding<'a> {
     }
 }
 
+impl Encoding<'_> {
+    /// Forbids, per step, a cycle of moves through the vertical reach in `paths`
+    /// (see [`super::conflict`]); returns how many.
+    fn cut_stacked_cycles(&mut self, paths: &[Vec<Vec<u32>>]) -> u64 {
+        if !self.space.has_stacking() {
+            return 0;
+        }
+        let drones: Vec<(usize, &Vec<u32>)> = paths
+            .iter()
+            .enumerate()
+            .flat_map(|(g, ps)| ps.iter().map(move |p| (g, p)))
+            .collect();
+        let at = |d: usize, t: usize| drones[d].1[t];
+        let mut occupant = vec![u32::MAX; self.space.len()];
+        let mut cuts = Vec::new();
+        for t in 0..self.horizon as usize {
+            for (d, (_, p)) in drones.iter().enumerate() {
+                occupant[p[t] as usize] = d as u32;
+            }
+            if let Some(cycle) = stacked_cycle_at(self.space, &at, drones.len(), t, &occupant) {
+                let clause: Vec<Lit> = cycle
+                    .iter()
+                    .filter_map(|&d| {
+                        let (g, from, to) = (drones[d].0, at(d, t), at(d, t + 1));
+                        self.moves
+                            .iter()
+                            .find(|m| {
+                                m.group == g && m.step == t as u32 && m.from == from && m.to == to
+                            })
+                            .map(|m| negative(m.var))
+                    })
+                    .collect();
+                cuts.push(clause);
+            }
+            for (_, p) in &drones {
+                occupant[p[t] as usize] = u32::MAX;
+            }
+        }
+        let count = cuts.len() as u64;
+        for clause in cuts {
+            self.clause(&clause);
+        }
+        count
+    }
+}
+
 /// Decides one horizon: a routing, none, or stopped.
 fn decide<'a>(
     space: &'a Space,
@@ -447,7 +521,7 @@ fn decide<'a>(
         for group_paths in &mut paths {
             remove_cycles(group_paths, space.len());
         }
-        let cuts = encoding.cut_cycles(&paths);
+        let cuts = encoding.cut_cycles(&paths) + encoding.cut_stacked_cycles(&paths);
         if cuts > 0 {
             work.cycle_cuts += cuts;
             continue;

@@ -17,6 +17,8 @@ use swarmctl::compiled::CompiledPlan;
 use swarmctl::fly::{DroneLog, FlightLog, Summary, log::LogEvent};
 
 const MISSION: &str = "missions/swap-corridor.yaml";
+/// An ellipsoid mission: horizontal radius 0.25 m, vertical 0.75 m.
+const DOWNWASH: &str = "missions/paper-scale-downwash.yaml";
 
 fn repo_root() -> PathBuf {
     crate::support::repo_root()
@@ -107,9 +109,14 @@ fn assert_has(paths: &BTreeSet<String>, expected: &[String]) {
 
 /// Plans the corridor mission, writing the plan and its recording into `dir`.
 fn plan(dir: &Path) -> (PathBuf, CompiledPlan) {
+    plan_mission(dir, MISSION)
+}
+
+/// Plans `mission`, writing the plan and its recording into `dir`.
+fn plan_mission(dir: &Path, mission: &str) -> (PathBuf, CompiledPlan) {
     let (json, rrd) = (dir.join("plan.json"), dir.join("plan.rrd"));
     swarmctl()
-        .args(["plan", MISSION, "-o"])
+        .args(["plan", mission, "-o"])
         .arg(&json)
         .arg("--rrd")
         .arg(&rrd)
@@ -166,6 +173,59 @@ fn plan_recording_verifies_and_lists_the_plan() {
             "no event for leg {leg}:\n{events}"
         );
     }
+}
+
+/// The separation shapes of `entity` have half sizes `half` (half the
+/// separation's radii: touching shapes mean a breach) and no other. `rrd print`
+/// cuts long lists short, so this reads the shape, not one entry per drone.
+fn assert_half_sizes(rrd: &Path, entity: &str, half: [f32; 3]) {
+    let dump = entity_dump(rrd, entity);
+    let shown = |h: [f32; 3]| dump.contains(&format!("[{}, {}, {}]", h[0], h[1], h[2]));
+    assert!(shown(half), "{entity} has no half sizes {half:?}:\n{dump}");
+    let (sphere, ellipsoid) = ([0.125; 3], [0.125, 0.125, 0.375]);
+    let other = if half == sphere { ellipsoid } else { sphere };
+    assert!(!shown(other), "{entity} has half sizes {other:?}:\n{dump}");
+}
+
+/// Paths only an ellipsoid mission's recording has, for `kind` (`plan`, `flight`).
+fn scaled_paths(kind: &str) -> Vec<String> {
+    vec![
+        format!("/metrics/{kind}/min_scaled_separation"),
+        format!("/metrics/{kind}/scaled_limit"),
+    ]
+}
+
+/// Under an ellipsoid the plan recording draws each drone's ellipsoid (half
+/// sizes H/2, H/2, V/2), plots the scaled separation and states the checker's
+/// bound; a sphere mission's recording has no scaled plot.
+#[test]
+fn plan_recording_draws_the_ellipsoid_and_the_scaled_separation() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (rrd, plan) = plan_mission(dir.path(), DOWNWASH);
+    verify(&rrd);
+    let mut expected = plan_paths();
+    expected.extend(scaled_paths("plan"));
+    assert_has(&entity_paths(&rrd), &expected);
+    assert_half_sizes(&rrd, "/world/plan/safety", [0.125, 0.125, 0.375]);
+    let bound = plan
+        .check
+        .scaled
+        .as_ref()
+        .expect("an ellipsoid mission")
+        .min_bound;
+    let events = entity_dump(&rrd, "/events/plan");
+    let line = format!("checker: min scaled separation of setpoints ≥ {bound:.3} (held");
+    assert!(events.contains(&line), "no {line:?} in:\n{events}");
+
+    let sphere = tempfile::tempdir().expect("temp dir");
+    let (rrd, _) = plan_mission(sphere.path(), MISSION);
+    assert_half_sizes(&rrd, "/world/plan/safety", [0.125; 3]);
+    let paths = entity_paths(&rrd);
+    let scaled: Vec<String> = scaled_paths("plan")
+        .into_iter()
+        .filter(|p| paths.contains(p))
+        .collect();
+    assert!(scaled.is_empty(), "a sphere mission has {scaled:?}");
 }
 
 /// A flight log that flew the plan exactly, 2 s after arming, plus one event.
@@ -280,6 +340,47 @@ fn replay_without_mission_writes_a_recording_beside_the_log() {
     verify(&rrd);
     assert_has(&entity_paths(&rrd), &flight_paths());
     assert_labelled(&rrd, "/world/flight/drones", &plan);
+}
+
+/// A replayed ellipsoid flight draws the flown drones' ellipsoids and plots their
+/// scaled separation, with the summary's figure as an event: from the mission
+/// when given, from the log's summary when not.
+#[test]
+fn replay_of_an_ellipsoid_flight_draws_ellipsoids_and_the_scaled_separation() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (_, plan) = plan_mission(dir.path(), DOWNWASH);
+    let mut flight = synthetic_flight(&plan);
+    flight.summary.vertical_separation_m = Some(0.75);
+    flight.summary.min_scaled_separation = Some(1.304);
+    let (a, b) = (plan.drones[0].id.clone(), plan.drones[1].id.clone());
+    flight.summary.closest_scaled_pair = Some((a.clone(), b.clone(), 12.5));
+    let log = dir.path().join("flight.json");
+    std::fs::write(&log, serde_json::to_string(&flight).expect("json")).expect("write log");
+    let with_mission = dir.path().join("replay.rrd");
+    swarmctl()
+        .arg("replay")
+        .arg(&log)
+        .args(["--mission", DOWNWASH, "--plan"])
+        .arg(dir.path().join("plan.json"))
+        .arg("--rrd")
+        .arg(&with_mission)
+        .assert()
+        .success();
+    swarmctl().arg("replay").arg(&log).assert().success();
+    let without_mission = dir.path().join("flight.rrd");
+    let half = [0.125, 0.125, 0.375];
+    for rrd in [&with_mission, &without_mission] {
+        verify(rrd);
+        let mut expected = flight_paths();
+        expected.extend(scaled_paths("flight"));
+        assert_has(&entity_paths(rrd), &expected);
+        assert_half_sizes(rrd, "/world/flight/safety", half);
+        let events = entity_dump(rrd, "/events/flight");
+        let line =
+            format!("summary: min scaled separation from telemetry 1.304, {a} and {b} (held");
+        assert!(events.contains(&line), "no {line:?} in:\n{events}");
+    }
+    assert_half_sizes(&with_mission, "/world/plan/safety", half);
 }
 
 /// `swarmctl fly` records live while it flies the bundled SITL: the recording

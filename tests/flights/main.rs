@@ -8,6 +8,7 @@ mod support;
 
 mod fault_matrix;
 mod fly_common;
+mod fly_downwash;
 mod fly_faults;
 mod fly_formation;
 mod fly_paper_scale;

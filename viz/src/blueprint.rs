@@ -7,11 +7,14 @@ use rerun::blueprint::{
 };
 
 /// 3D view on the left; on the right, minimum separation, per-drone speeds and
-/// the event log stacked. Speeds of 100 drones in one plot are a blur, but the
-/// envelope (who exceeds the limit) is what one looks for. The side panels start
-/// collapsed so the views get the screen; `timeline` is the one selected at open.
-pub fn layout(timeline: &str) -> Blueprint {
-    let right = Vertical::new([
+/// the event log stacked, and with `scaled` (an ellipsoidal separation) the
+/// minimum scaled separation under the separation in metres: unitless, so in a
+/// plot of its own, and only then, so a sphere's layout has no empty plot.
+/// Speeds of 100 drones in one plot are a blur, but the envelope (who exceeds
+/// the limit) is what one looks for. The side panels start collapsed so the
+/// views get the screen; `timeline` is the one selected at open.
+pub fn layout(timeline: &str, scaled: bool) -> Blueprint {
+    let mut views = vec![
         TimeSeriesView::new("min separation (m)")
             .with_origin("/metrics")
             .with_contents([
@@ -21,12 +24,28 @@ pub fn layout(timeline: &str) -> Blueprint {
                 "/metrics/flight/safety_distance_m",
             ])
             .into(),
+    ];
+    if scaled {
+        views.push(
+            TimeSeriesView::new("min scaled separation (separated at 1 or more)")
+                .with_origin("/metrics")
+                .with_contents([
+                    "/metrics/plan/min_scaled_separation",
+                    "/metrics/plan/scaled_limit",
+                    "/metrics/flight/min_scaled_separation",
+                    "/metrics/flight/scaled_limit",
+                ])
+                .into(),
+        );
+    }
+    views.push(
         TimeSeriesView::new("speed (m/s)")
             .with_origin("/metrics")
             .with_contents(["/metrics/plan/speed_mps", "/metrics/flight/speed_mps"])
             .into(),
-        TextLogView::new("events").with_origin("/events").into(),
-    ]);
+    );
+    views.push(TextLogView::new("events").with_origin("/events").into());
+    let right = Vertical::new(views);
     Blueprint::new(
         Horizontal::new([
             Spatial3DView::new("world").with_origin("/world").into(),

@@ -65,6 +65,22 @@ impl Pairwise {
         }
         Some(f64::from(f32::from_bits(best_bits).sqrt()))
     }
+
+    /// Smallest scaled separation `√((dx/rx)² + (dy/ry)² + (dz/rz)²)` among
+    /// `positions` for an ellipsoid of `radii_m` (separated when at least 1):
+    /// the plain distance once every coordinate is divided by its radius, so the
+    /// same vectorised pass serves both.
+    pub fn min_scaled(
+        &mut self,
+        positions: impl IntoIterator<Item = [f64; 3]>,
+        radii_m: [f64; 3],
+    ) -> Option<f64> {
+        self.min_m(
+            positions
+                .into_iter()
+                .map(|p| [0, 1, 2].map(|i| p[i] / radii_m[i])),
+        )
+    }
 }
 
 #[cfg(test)]
@@ -90,5 +106,23 @@ mod tests {
         let near = [[3.0, 0.5, 0.0], [3.0, 0.8, 0.0]];
         let d = pairwise.min_m(far.chain(near)).expect("pairs");
         assert!((d - 0.3).abs() < 1e-6, "{d}");
+    }
+
+    #[test]
+    fn scaled_separation_divides_by_each_radius() {
+        let mut pairwise = Pairwise::default();
+        let radii = [0.25, 0.25, 0.75];
+        // Side by side at H and stacked at V: both exactly on the ellipsoid.
+        let side = pairwise.min_scaled([[0.0; 3], [0.25, 0.0, 0.0]], radii);
+        let stacked = pairwise.min_scaled([[0.0; 3], [0.0, 0.0, 0.75]], radii);
+        for scaled in [side, stacked] {
+            assert!((scaled.expect("pair") - 1.0).abs() < 1e-6, "{scaled:?}");
+        }
+        // 0.5 m apart: twice H beside, but two thirds of V below.
+        let below = pairwise.min_scaled([[0.0; 3], [0.5, 0.0, 0.0], [0.0, 0.0, -0.5]], radii);
+        assert!(
+            (below.expect("pairs") - 2.0 / 3.0).abs() < 1e-6,
+            "{below:?}"
+        );
     }
 }

@@ -38,7 +38,8 @@ pub fn goals(group: &str) -> EntityPath {
 pub fn drones(kind: &str) -> EntityPath {
     path(&["world", kind, "drones"])
 }
-/// The spheres around the drones whose overlap means a safety breach.
+/// The separation spheres (or ellipsoids) around the drones, drawn at half the
+/// separation so that two overlap exactly when the drones breach it.
 pub fn safety(kind: &str) -> EntityPath {
     path(&["world", kind, "safety"])
 }
@@ -53,6 +54,15 @@ pub fn speeds(kind: &str) -> EntityPath {
 /// The swarm's minimum pairwise separation over time, metres.
 pub fn min_separation(kind: &str) -> EntityPath {
     path(&["metrics", kind, "min_separation_m"])
+}
+/// The swarm's minimum scaled separation over time (ellipsoid only): separated
+/// when at least 1.
+pub fn min_scaled_separation(kind: &str) -> EntityPath {
+    path(&["metrics", kind, "min_scaled_separation"])
+}
+/// The scaled separation's limit, 1, as a flat line beside it (ellipsoid only).
+pub fn scaled_limit(kind: &str) -> EntityPath {
+    path(&["metrics", kind, "scaled_limit"])
 }
 /// The safety distance as a flat line beside the separation, metres.
 pub fn safety_distance(kind: &str) -> EntityPath {

@@ -19,7 +19,7 @@ const MAX_ROWS: usize = 200_000;
 /// schedule on every axis in `axes`; returns once everything is flushed.
 pub fn write_scene(scene: &Scene, sink: &crate::Sink, axes: &[TimeAxis]) -> Result<(), VizError> {
     let timeline = axes.first().map_or(crate::PLAN_TIMELINE, |a| a.timeline);
-    let rec = crate::sink::open(&scene.name, sink, timeline)?;
+    let rec = crate::sink::open(scene, sink, timeline)?;
     log_scene(&rec, scene, axes)?;
     rec.flush_blocking()
         .map_err(|e| VizError::Flush(e.to_string()))
@@ -37,6 +37,8 @@ pub(crate) struct PlanRows {
     speeds_mps: Vec<f64>,
     /// The swarm's minimum separation at each row.
     separation: Vec<(f64, f64)>,
+    /// The swarm's minimum scaled separation at each row, under an ellipsoid.
+    scaled: Vec<(f64, f64)>,
     safety_distance_m: f64,
     events: Vec<PlanEvent>,
 }
@@ -59,6 +61,7 @@ impl PlanRows {
             positions: Vec::with_capacity(times_s.len() * n),
             speeds_mps: Vec::with_capacity(times_s.len() * n),
             separation: Vec::with_capacity(times_s.len()),
+            scaled: Vec::new(),
             safety_distance_m: scene.safety_distance_m,
             events: scene.events.clone(),
             times_s: Vec::new(),
@@ -80,6 +83,11 @@ impl PlanRows {
             }
             if let Some(d) = pairwise.min_m(current.iter().copied()) {
                 rows.separation.push((t_s, d));
+            }
+            if let Some(radii) = scene.scaled_radii_m()
+                && let Some(scaled) = pairwise.min_scaled(current.iter().copied(), radii)
+            {
+                rows.scaled.push((t_s, scaled));
             }
             std::mem::swap(&mut previous, &mut current);
             previous_t_s = t_s;
@@ -141,7 +149,7 @@ pub(crate) fn log_scene(
     log_markers(rec, scene)?;
     let members = PlanRows::members(scene);
     swarm::log_styles(rec, scene, "plan", &members)?;
-    swarm::log_series_styles(rec, "plan")?;
+    swarm::log_series_styles(rec, scene, "plan")?;
     let rows = PlanRows::new(scene);
     for axis in axes {
         log_plan_axis(rec, &rows, axis)?;
@@ -149,7 +157,8 @@ pub(crate) fn log_scene(
     Ok(rows)
 }
 
-/// The schedule on one axis: drones, safety spheres, speeds, separation, waits.
+/// The schedule on one axis: drones, separation shapes, speeds, separation (and
+/// scaled separation under an ellipsoid), waits.
 pub(crate) fn log_plan_axis(
     rec: &RecordingStream,
     rows: &PlanRows,
@@ -160,13 +169,21 @@ pub(crate) fn log_plan_axis(
     swarm::send_spheres(rec, "plan", axis, &rows.times_s, n, &rows.positions)?;
     swarm::send_speeds(rec, "plan", axis, &rows.times_s, n, rows.speeds_mps.clone())?;
     swarm::send_series(rec, &paths::min_separation("plan"), axis, &rows.separation)?;
-    if let (Some(first), Some(last)) = (rows.separation.first(), rows.separation.last()) {
-        let line = [
-            (first.0, rows.safety_distance_m),
-            (last.0, rows.safety_distance_m),
-        ];
-        swarm::send_series(rec, &paths::safety_distance("plan"), axis, &line)?;
-    }
+    let (separation, distance_m) = (&rows.separation, rows.safety_distance_m);
+    swarm::send_limit_line(
+        rec,
+        &paths::safety_distance("plan"),
+        axis,
+        separation,
+        distance_m,
+    )?;
+    swarm::send_series(
+        rec,
+        &paths::min_scaled_separation("plan"),
+        axis,
+        &rows.scaled,
+    )?;
+    swarm::send_limit_line(rec, &paths::scaled_limit("plan"), axis, &rows.scaled, 1.0)?;
     log_events(rec, &rows.events, axis)
 }
 
@@ -272,6 +289,33 @@ mod tests {
         assert_eq!(rows.speeds_mps, vec![0.0, 0.0, 2.0, 0.0]);
         assert_eq!(rows.separation.len(), 2);
         assert!((rows.separation[1].1 - 10f64.sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn an_ellipsoid_adds_the_scaled_separation_and_a_sphere_does_not() {
+        // One drone 0.5 m above another: twice H beside, two thirds of V below.
+        let mut scene = Scene {
+            safety_distance_m: 0.25,
+            drones: vec![
+                drone("low", vec![[0.0, 0.0, 0.0, 1.0]]),
+                drone("high", vec![[0.0, 0.0, 0.0, 1.5]]),
+            ],
+            ..Scene::default()
+        };
+        assert!(PlanRows::new(&scene).scaled.is_empty());
+        scene.vertical_separation_m = Some(0.75);
+        let rows = PlanRows::new(&scene);
+        assert_eq!(rows.scaled.len(), 1);
+        assert!(
+            (rows.scaled[0].1 - 2.0 / 3.0).abs() < 1e-6,
+            "{:?}",
+            rows.scaled
+        );
+        assert_eq!(
+            swarm::separation_half_sizes(&scene),
+            [0.125, 0.125, 0.375],
+            "half the ellipsoid's radii, so touching shapes mean a breach"
+        );
     }
 
     #[test]

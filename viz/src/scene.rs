@@ -15,8 +15,13 @@ pub struct Scene {
     pub groups: Vec<Group>,
     /// Every drone, planned or not; flight samples name drones by their index here.
     pub drones: Vec<Drone>,
-    /// Minimum distance two drones must keep, metres.
+    /// Minimum distance two drones must keep, metres: a sphere's radius, or the
+    /// horizontal radius of the ellipsoid when [`Scene::vertical_separation_m`] is set.
     pub safety_distance_m: f64,
+    /// The separation ellipsoid's vertical radius, metres, when drones keep an
+    /// axis-aligned ellipsoid apart (downwash reaches further below a drone than
+    /// beside it); `None` for a sphere of [`Scene::safety_distance_m`].
+    pub vertical_separation_m: Option<f64>,
     /// Scheduled events worth reading as text (TPG waits), in plan time.
     pub events: Vec<PlanEvent>,
 }
@@ -107,6 +112,21 @@ impl Group {
 }
 
 impl Scene {
+    /// The separation's radii along x, y and z, metres: `[H, H, V]` for an
+    /// ellipsoid, the safety distance three times for a sphere.
+    pub fn separation_radii_m(&self) -> [f64; 3] {
+        let h = self.safety_distance_m;
+        [h, h, self.vertical_separation_m.unwrap_or(h)]
+    }
+
+    /// The radii the scaled separation divides by, for an ellipsoid only: for a
+    /// sphere it is the distance over the safety distance, which the plot in
+    /// metres already shows against the safety distance.
+    pub fn scaled_radii_m(&self) -> Option<[f64; 3]> {
+        self.vertical_separation_m
+            .map(|_| self.separation_radii_m())
+    }
+
     /// The colour of a drone's group (grey if the index is out of range).
     pub fn drone_color(&self, drone: &Drone) -> [u8; 3] {
         self.groups

@@ -33,20 +33,21 @@ impl Sink {
 /// and a wake-up costs tens of microseconds in a virtual machine.
 const BATCHER_TICK: Duration = Duration::from_secs(1);
 
-/// Opens a recording with the swarmctl blueprint (3D view beside the time
-/// series), showing `timeline` first.
+/// Opens a recording of `scene` with the swarmctl blueprint (3D view beside the
+/// time series), showing `timeline` first.
 pub(crate) fn open(
-    name: &str,
+    scene: &crate::Scene,
     sink: &Sink,
     timeline: &str,
 ) -> Result<rerun::RecordingStream, VizError> {
+    let scaled = scene.scaled_radii_m().is_some();
     let builder = rerun::RecordingStreamBuilder::new("swarmctl")
-        .recording_name(name)
+        .recording_name(&scene.name)
         .batcher_config(rerun::log::ChunkBatcherConfig {
             flush_tick: BATCHER_TICK,
             ..rerun::log::ChunkBatcherConfig::DEFAULT
         })
-        .with_blueprint(crate::blueprint::layout(timeline));
+        .with_blueprint(crate::blueprint::layout(timeline, scaled));
     let (what, result) = match sink {
         Sink::File(path) => (format!("file {}", path.display()), builder.save(path)),
         Sink::Spawn => ("spawned viewer".to_string(), builder.spawn()),

@@ -1,8 +1,9 @@
 //! A swarm as columns: each row holds every drone's value at one time.
 //!
 //! Plans and flights log their drones the same way: one entity for all positions
-//! (drone `i` is instance `i`), one for the safety spheres and one for the speeds,
-//! sent with `send_columns` so a whole stretch of time is one chunk per entity.
+//! (drone `i` is instance `i`), one for the separation spheres (ellipsoids under
+//! an ellipsoidal separation) and one for the speeds, sent with `send_columns` so
+//! a whole stretch of time is one chunk per entity.
 //! Nothing here uses the stream's per-thread current time.
 
 use crate::error::{log_err, ser_err};
@@ -37,7 +38,8 @@ pub(crate) fn send_points(
         .map_err(log_err(&entity))
 }
 
-/// Sends rows of positions (same layout as [`send_points`]) as safety-sphere centres.
+/// Sends rows of positions (same layout as [`send_points`]) as the centres of
+/// the separation spheres or ellipsoids, which thus move with the drones.
 pub(crate) fn send_spheres(
     rec: &RecordingStream,
     kind: &str,
@@ -99,11 +101,35 @@ pub(crate) fn send_series(
         .map_err(log_err(entity))
 }
 
+/// A flat line at `value` over the span of `series` (its first to its last time):
+/// a limit drawn beside the series it bounds. Nothing for an empty series.
+pub(crate) fn send_limit_line(
+    rec: &RecordingStream,
+    entity: &rerun::EntityPath,
+    axis: &TimeAxis,
+    series: &[(f64, f64)],
+    value: f64,
+) -> Result<(), VizError> {
+    match (series.first(), series.last()) {
+        (Some(first), Some(last)) => {
+            send_series(rec, entity, axis, &[(first.0, value), (last.0, value)])
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Half sizes of the separation shape drawn around each drone: half the
+/// separation's radii (`H/2, H/2, V/2` for an ellipsoid, `d/2` for a sphere).
+/// Two identical shapes overlap exactly when their centres are inside the full
+/// separation of each other, so touching shapes read as a breach.
+pub(crate) fn separation_half_sizes(scene: &Scene) -> [f32; 3] {
+    scene.separation_radii_m().map(|r| (r / 2.0) as f32)
+}
+
 /// What does not change over time for the drones `members` (scene indices, in
-/// instance order): labels, colours and size of the points, the safety spheres'
-/// radius (half the safety distance, so two spheres overlap exactly when two
-/// drones are closer than the safety distance), and the speed series' names and
-/// colours. Flown drones are drawn lighter than planned ones.
+/// instance order): labels, colours and size of the points, the separation
+/// shapes' half sizes ([`separation_half_sizes`]), and the speed series' names
+/// and colours. Flown drones are drawn lighter than planned ones.
 pub(crate) fn log_styles(
     rec: &RecordingStream,
     scene: &Scene,
@@ -126,7 +152,7 @@ pub(crate) fn log_styles(
         })
         .collect();
     let labels: Vec<&str> = drones.iter().map(|d| d.id.as_str()).collect();
-    let half = (scene.safety_distance_m / 2.0) as f32;
+    let half = separation_half_sizes(scene);
     let entity = paths::drones(kind);
     rec.log_static(
         entity.clone(),
@@ -140,7 +166,7 @@ pub(crate) fn log_styles(
     rec.log_static(
         entity.clone(),
         &rerun::Ellipsoids3D::update_fields()
-            .with_half_sizes(std::iter::repeat_n([half; 3], drones.len()))
+            .with_half_sizes(std::iter::repeat_n(half, drones.len()))
             .with_colors(colors.iter().copied())
             .with_fill_mode(rerun::FillMode::MajorWireframe),
     )
@@ -156,8 +182,16 @@ pub(crate) fn log_styles(
 }
 
 /// Names and colours of the separation plot: the swarm's minimum separation and
-/// the safety distance in red.
-pub(crate) fn log_series_styles(rec: &RecordingStream, kind: &str) -> Result<(), VizError> {
+/// the safety distance in red; under an ellipsoid also the scaled plot (the
+/// minimum scaled separation and its limit 1 in red).
+pub(crate) fn log_series_styles(
+    rec: &RecordingStream,
+    scene: &Scene,
+    kind: &str,
+) -> Result<(), VizError> {
+    if scene.scaled_radii_m().is_some() {
+        log_scaled_styles(rec, kind)?;
+    }
     let entity = paths::safety_distance(kind);
     rec.log_static(
         entity.clone(),
@@ -170,6 +204,24 @@ pub(crate) fn log_series_styles(rec: &RecordingStream, kind: &str) -> Result<(),
     rec.log_static(
         entity.clone(),
         &rerun::SeriesLines::new().with_names([format!("{kind} min separation")]),
+    )
+    .map_err(log_err(&entity))
+}
+
+/// Names and colours of the scaled separation plot.
+fn log_scaled_styles(rec: &RecordingStream, kind: &str) -> Result<(), VizError> {
+    let entity = paths::scaled_limit(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::SeriesLines::new()
+            .with_names(["separated (1)"])
+            .with_colors([style::color(style::SAFETY_RGB)]),
+    )
+    .map_err(log_err(&entity))?;
+    let entity = paths::min_scaled_separation(kind);
+    rec.log_static(
+        entity.clone(),
+        &rerun::SeriesLines::new().with_names([format!("{kind} min scaled separation")]),
     )
     .map_err(log_err(&entity))
 }

@@ -94,6 +94,10 @@ enum Target {
         /// Also write the generated mission here (YAML), for `swarmctl check`.
         #[arg(long)]
         mission_out: Option<std::path::PathBuf>,
+        /// Separate the drones by an ellipsoid this many metres high (0.25 m
+        /// across) instead of the 0.25 m sphere; separations are judged scaled.
+        #[arg(long, value_name = "METRES")]
+        vertical_separation: Option<f64>,
     },
 }
 
@@ -117,34 +121,36 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             plan_runs,
             limit,
             mission_out,
-        } => load(vehicles, seed, plan_runs, limit, mission_out.as_deref()),
+            vertical_separation,
+        } => {
+            let mut options = swarmctl_harness::load::LoadOptions::new(vehicles, seed);
+            options.plan_runs = plan_runs;
+            options.limit = Duration::try_from_secs_f64(limit)?;
+            options.vertical_separation_m = vertical_separation;
+            load(&options, mission_out.as_deref())
+        }
     }
 }
 
 fn load(
-    vehicles: usize,
-    seed: u64,
-    plan_runs: usize,
-    limit: f64,
+    options: &swarmctl_harness::load::LoadOptions,
     mission_out: Option<&std::path::Path>,
 ) -> anyhow::Result<ExitCode> {
     use swarmctl_harness::load;
-    let mut options = load::LoadOptions::new(vehicles, seed);
-    options.plan_runs = plan_runs;
-    options.limit = Duration::try_from_secs_f64(limit)?;
+    let (vehicles, plan_runs) = (options.vehicles, options.plan_runs);
     if let Some(path) = mission_out {
-        let file = load::load_mission(vehicles, seed)?;
+        let file = load::load_mission(vehicles, options.seed, options.vertical_separation_m)?;
         std::fs::write(path, swarmctl::mission::to_yaml(&file))?;
         eprintln!("mission written to {}", path.display());
     }
     eprintln!("planning {vehicles} drones ({plan_runs} runs) …");
-    let (mission, plan, times) = load::plan_load(&options)?;
+    let (mission, plan, times) = load::plan_load(options)?;
     eprintln!(
         "planned in {:.3} s (median), makespan {} steps; flying on {vehicles} bundled SITL vehicles …",
         median(&times),
         plan.makespan_steps
     );
-    let report = load::fly_load(&mission, &plan, times, &options)?;
+    let report = load::fly_load(&mission, &plan, times, options)?;
     eprintln!("{}", report.observed);
     if !report.passed()
         && let Some(log) = &report.log

@@ -47,6 +47,34 @@ fn print_summary(path: &std::path::Path, m: &mission::Mission) {
         .collect();
     println!("  groups     {}: {}", m.groups.len(), sizes.join(", "));
     println!("  drones     {}", m.drone_count());
+    println!("  separation {}", separation_text(m));
     println!("  formation  ≥ {lower_bound} from the starts (lower bound, collisions ignored)");
     super::pads::print_pads_and_legs(m);
+}
+
+/// The separation the mission keeps, with the setpoints' and, under an ellipsoid,
+/// how far its vertical reach goes.
+fn separation_text(m: &mission::Mission) -> String {
+    let l = &m.limits;
+    let sep = l.separation();
+    let grown = l.setpoint_separation();
+    if !l.is_ellipsoid() {
+        return format!(
+            "sphere of {:.3} m (setpoints {:.3} m apart with a tracking error of {:.3} m)",
+            sep.horizontal_m, grown.horizontal_m, l.tracking_error_m
+        );
+    }
+    let reach = l.vertical_reach(&m.airspace);
+    let stacking = if reach.is_trivial(&m.airspace) {
+        "no two cells of a column within reach".to_string()
+    } else {
+        format!(
+            "cells of a column closer than {:.3} m are never held at once",
+            reach.reach_m
+        )
+    };
+    format!(
+        "ellipsoid {:.3} m beside × {:.3} m above and below (setpoints {:.3} × {:.3} m with a tracking error of {:.3} m; {stacking})",
+        sep.horizontal_m, sep.vertical_m, grown.horizontal_m, grown.vertical_m, l.tracking_error_m
+    )
 }

@@ -313,7 +313,13 @@ fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> 
         ..plan::PlanOptions::default()
     };
     Ok(plan::solve(mission, &options)
-        .with_context(|| format!("planning {}", mission.name))?
+        .with_context(|| {
+            format!(
+                "planning {}{}",
+                mission.name,
+                super::plan::reach_hint(mission)
+            )
+        })?
         .plan)
 }
 

@@ -43,7 +43,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ..plan::PlanOptions::default()
     };
     let solution = solve_with_spinner(&mission, &options)
-        .with_context(|| format!("planning {}", input.display()))?;
+        .with_context(|| format!("planning {}{}", input.display(), reach_hint(&mission)))?;
     if let Err(violations) = plan::validate_plan(&mission, &solution.plan) {
         let list: Vec<String> = violations.iter().map(|v| format!("  {v}")).collect();
         anyhow::bail!(
@@ -184,4 +184,19 @@ fn print_solution(
         s.low_level_time.as_secs_f64(),
         s.high_level_time().as_secs_f64()
     );
+}
+
+/// Under an ellipsoid whose vertical reach relates cells of a column, what the
+/// planner then also has to keep apart and how to lift it: said with a planning
+/// failure, since such conflicts can make a tight leg much harder to solve.
+pub(super) fn reach_hint(mission: &swarmctl::mission::Mission) -> String {
+    let l = &mission.limits;
+    let reach = l.vertical_reach(&mission.airspace);
+    if !l.is_ellipsoid() || reach.is_trivial(&mission.airspace) {
+        return String::new();
+    }
+    format!(
+        " (under the separation ellipsoid no two drones may be in cells of one column closer than {:.2} m — vertical separation plus twice the tracking error — which can make a crowded leg much harder; cells further apart, e.g. a pad layer at least that far below layer 0 (world.origin_m z, world.pad_height_m), or a smaller vertical separation or tracking error, lift it)",
+        reach.reach_m
+    )
 }

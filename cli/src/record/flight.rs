@@ -23,8 +23,29 @@ pub fn flight_plan_offset_s(log: &FlightLog) -> Option<f64> {
         .map(|e| e.t_s)
 }
 
+/// Under an ellipsoid, the summary's minimum scaled separation from telemetry as
+/// an event `(flight time, text)`: at the closest approach when the log names
+/// the pair, else at the flight's end. The recording's own scaled plot is
+/// sampled more coarsely than the summary's measurement, so the summary's figure
+/// is the one to read. `None` for a sphere or when nothing was measured.
+pub fn scaled_summary_event(log: &FlightLog) -> Option<(f64, String)> {
+    let summary = &log.summary;
+    let scaled = summary.min_scaled_separation.filter(|s| s.is_finite())?;
+    let verdict = if scaled >= 1.0 { "held" } else { "breached" };
+    let (t_s, pair) = match &summary.closest_scaled_pair {
+        Some((a, b, t_s)) => (*t_s, format!(", {a} and {b}")),
+        None => (summary.duration_s, String::new()),
+    };
+    let text = format!(
+        "summary: min scaled separation from telemetry {scaled:.3}{pair} \
+         ({verdict}; separated at 1 or more)"
+    );
+    Some((t_s, text))
+}
+
 /// Records `log` to `sink`: the flown telemetry on `flight_time`, the log's
-/// events, and — when given — the mission's world and the plan, the plan on
+/// events (and, under an ellipsoid, the summary's minimum scaled separation),
+/// and — when given — the mission's world and the plan, the plan on
 /// `plan_time` and again on `flight_time` from the moment execution began.
 /// Samples go through the same recorder thread a live flight would use, but
 /// blocking, since nothing is flying.
@@ -42,6 +63,7 @@ pub fn record_flight(
             name: log.mission.clone(),
             voxel_size_m: 1.0,
             safety_distance_m: log.summary.safety_distance_m,
+            vertical_separation_m: log.summary.vertical_separation_m,
             groups: vec![swarmctl_viz::Group {
                 name: "drones".into(),
                 color_rgb: swarmctl_viz::Group::palette(0),
@@ -92,6 +114,9 @@ pub fn record_flight(
     }
     for e in &log.events {
         handle.event_blocking(e.t_s, e.drone.as_deref(), &e.message)?;
+    }
+    if let Some((t_s, text)) = scaled_summary_event(log) {
+        handle.event_blocking(t_s, None, &text)?;
     }
     drop(handle);
     Ok(recorder.finish()?)

@@ -3,8 +3,9 @@
 use swarmctl::mission::Mission;
 use swarmctl_viz::{Bounds, Drone, Group, ObstacleBox, Scene};
 
-/// The static part of a recording: world box, obstacle voxels, groups, and each
-/// drone's pad on the ground (its start marker: every flight begins there). Goals
+/// The static part of a recording: world box, obstacle voxels, groups, the
+/// separation (sphere or ellipsoid) drawn around every drone, and each drone's
+/// pad on the ground (its start marker: every flight begins there). Goals
 /// are those of the mission's groups in file order until a plan assigns them.
 pub fn mission_scene(mission: &Mission) -> Scene {
     let world = &mission.world;
@@ -63,6 +64,7 @@ pub fn mission_scene(mission: &Mission) -> Scene {
             .collect(),
         drones,
         safety_distance_m: mission.limits.safety_distance_m,
+        vertical_separation_m: mission.limits.vertical_separation_m,
         events: Vec::new(),
     }
 }

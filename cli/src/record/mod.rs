@@ -14,7 +14,7 @@ mod plan;
 
 pub use args::ViewerArgs;
 pub use discrete::{schedule_discrete, scheduled_scene};
-pub use flight::{flight_plan_offset_s, record_flight};
+pub use flight::{flight_plan_offset_s, record_flight, scaled_summary_event};
 pub use live::LiveFlight;
 pub use mission::mission_scene;
 pub use plan::{plan_scene, record_plan};

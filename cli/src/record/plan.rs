@@ -18,6 +18,7 @@ const MIN_WAIT_S: f64 = 1e-3;
 pub fn plan_scene(mission: &Mission, plan: &CompiledPlan) -> Scene {
     let mut scene = drones_scene(mission, &plan.drones, &plan.execution);
     scene.events.extend(leg_events(plan));
+    scene.events.extend(scaled_check_event(plan));
     scene.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
     scene
 }
@@ -55,6 +56,29 @@ fn leg_events(plan: &CompiledPlan) -> Vec<PlanEvent> {
             }
         })
         .collect()
+}
+
+/// Under an ellipsoid, the checker's guaranteed lower bound on the scaled
+/// separation of setpoints, at the plan's start: the recording's scaled plot
+/// shows the sampled drones against the ellipsoid, this is what the schedule
+/// promises between samples (against the bounding cylinder grown by twice the
+/// tracking error, hence a figure of its own). `None` for a sphere.
+fn scaled_check_event(plan: &CompiledPlan) -> Option<PlanEvent> {
+    let scaled = plan.check.scaled.as_ref()?;
+    let verdict = if scaled.min_bound >= 1.0 {
+        "held"
+    } else {
+        "breached"
+    };
+    Some(PlanEvent {
+        t_s: 0.0,
+        drone: None,
+        text: format!(
+            "checker: min scaled separation of setpoints ≥ {:.3} ({verdict}; separated at 1: \
+             outside each other's cylinder of radius {:.3} m, half height {:.3} m)",
+            scaled.min_bound, scaled.horizontal_m, scaled.vertical_m
+        ),
+    })
 }
 
 /// The mission's world with `drones` (paths, trajectories) and the TPG waits of `execution`.

@@ -90,11 +90,15 @@ fn fly_watched(
     let fly_options = crate::bundled_sitl::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let done = Arc::new(AtomicBool::new(false));
+    let ellipsoid = mission
+        .limits
+        .is_ellipsoid()
+        .then(|| mission.limits.separation());
     let watcher = {
         let (swarm, done) = (swarm.clone(), done.clone());
         std::thread::Builder::new()
             .name(WATCH_THREAD.into())
-            .spawn(move || watch::watch(&swarm, &done))
+            .spawn(move || watch::watch(&swarm, ellipsoid, &done))
             .map_err(|source| HarnessError::WatcherStart { source })?
     };
     let ticks_before = swarm.tick_stats();
@@ -184,6 +188,12 @@ impl Run<'_> {
             min_separation_telemetry_m: summary.map_or(f64::INFINITY, |s| s.min_separation_m),
             min_separation_truth_m: watched.min_separation_m,
             safety_distance_m: self.mission.limits.safety_distance_m,
+            scaled_telemetry_truth: watched.min_scaled_separation.map(|truth| {
+                let telemetry = summary
+                    .and_then(|s| s.min_scaled_separation)
+                    .unwrap_or(f64::INFINITY);
+                (telemetry, truth)
+            }),
             peak_rss_bytes: resources::peak_rss_bytes().unwrap_or(0),
             flight_max_rss_bytes: watched.max_rss_bytes,
             fds_before: self.fds[0],

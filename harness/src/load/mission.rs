@@ -5,7 +5,7 @@ use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use swarmctl::mission::MissionFile;
-use swarmctl::mission::schema::{LimitsSpec, LinkSpec, WorldSpec};
+use swarmctl::mission::schema::{LimitsSpec, LinkSpec, SeparationSpec, WorldSpec};
 
 /// Drones per group (within a group any drone may take any goal).
 const DRONES_PER_GROUP: usize = 20;
@@ -17,8 +17,14 @@ const MAX_VEHICLES: usize = 254;
 /// A seeded random mission for `vehicles` drones on a square world just large
 /// enough for two free columns per drone, four layers high, no obstacles: starts
 /// on distinct x,y columns in the lowest layer, goals on distinct columns at random
-/// heights, groups of up to 20. The lowest layer is 1 m above the ground.
-pub fn load_mission(vehicles: usize, seed: u64) -> Result<MissionFile, HarnessError> {
+/// heights, groups of up to 20. The lowest layer is 1 m above the ground. Drones
+/// keep a 0.25 m sphere, or with `vertical_separation_m` an ellipsoid 0.25 m
+/// across and that high.
+pub fn load_mission(
+    vehicles: usize,
+    seed: u64,
+    vertical_separation_m: Option<f64>,
+) -> Result<MissionFile, HarnessError> {
     if !(1..=MAX_VEHICLES).contains(&vehicles) {
         return Err(HarnessError::LoadVehicles { vehicles });
     }
@@ -62,8 +68,11 @@ pub fn load_mission(vehicles: usize, seed: u64) -> Result<MissionFile, HarnessEr
             max_speed_mps: 1.0,
             max_accel_mps2: 2.0,
             max_jerk_mps3: None,
-            safety_distance_m: Some(0.25),
-            separation: None,
+            safety_distance_m: vertical_separation_m.is_none().then_some(0.25),
+            separation: vertical_separation_m.map(|vertical_m| SeparationSpec {
+                horizontal_m: 0.25,
+                vertical_m,
+            }),
             tracking_error_m: None,
         },
         link: LinkSpec::default(),
@@ -80,7 +89,7 @@ mod tests {
     #[test]
     fn load_missions_keep_starts_and_goals_on_distinct_columns() {
         for (vehicles, seed) in [(1, 1), (50, 1), (200, 1), (200, 7), (254, 3)] {
-            let file = load_mission(vehicles, seed).unwrap();
+            let file = load_mission(vehicles, seed, None).unwrap();
             let mission = swarmctl::mission::validate(&file).unwrap();
             assert_eq!(mission.drone_count(), vehicles);
             let starts: Vec<[i64; 3]> = file
@@ -96,8 +105,11 @@ mod tests {
             }
             assert!(starts.iter().all(|s| s[2] == 0));
         }
-        assert_eq!(load_mission(40, 2).unwrap(), load_mission(40, 2).unwrap());
-        assert!(load_mission(0, 1).is_err() && load_mission(255, 1).is_err());
+        assert_eq!(
+            load_mission(40, 2, None).unwrap(),
+            load_mission(40, 2, None).unwrap()
+        );
+        assert!(load_mission(0, 1, None).is_err() && load_mission(255, 1, None).is_err());
     }
 
     #[test]
@@ -105,6 +117,6 @@ mod tests {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../missions/load-200.yaml");
         let text = std::fs::read_to_string(path).unwrap();
         let file: MissionFile = swarmctl::mission::parse_yaml(&text).unwrap();
-        assert_eq!(file, load_mission(200, 1).unwrap());
+        assert_eq!(file, load_mission(200, 1, None).unwrap());
     }
 }

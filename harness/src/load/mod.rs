@@ -64,6 +64,10 @@ pub struct LoadOptions {
     pub plan_runs: usize,
     /// The whole flight must end within this.
     pub limit: Duration,
+    /// Separate the drones by an ellipsoid of this height instead of the 0.25 m
+    /// sphere (its horizontal radius stays 0.25 m): the separations are then
+    /// judged scaled (`world::Separation`).
+    pub vertical_separation_m: Option<f64>,
 }
 
 impl LoadOptions {
@@ -76,6 +80,7 @@ impl LoadOptions {
             flavour: Flavour::Px4,
             plan_runs: 1,
             limit: Duration::from_secs(600),
+            vertical_separation_m: None,
         }
     }
 }
@@ -83,7 +88,11 @@ impl LoadOptions {
 /// Builds the mission for `options` and plans it `plan_runs` times (at least
 /// once): the mission, the first plan, and every run's wall time in seconds.
 pub fn plan_load(options: &LoadOptions) -> Result<(Mission, DiscretePlan, Vec<f64>), HarnessError> {
-    let file = load_mission(options.vehicles, options.seed)?;
+    let file = load_mission(
+        options.vehicles,
+        options.seed,
+        options.vertical_separation_m,
+    )?;
     let mission =
         swarmctl::mission::validate(&file).map_err(|problems| HarnessError::MissionInvalid {
             mission: file.name.clone(),

@@ -79,8 +79,12 @@ pub struct LoadReport {
     pub min_separation_telemetry_m: f64,
     /// Simulator truth, whole flight, airborne pairs.
     pub min_separation_truth_m: f64,
-    /// The mission's safety distance, metres: what the separations must keep.
+    /// The mission's safety distance, metres: what the separations must keep
+    /// (under an ellipsoid its horizontal radius; the scaled separations decide).
     pub safety_distance_m: f64,
+    /// Under an ellipsoid, the scaled separation from telemetry and from truth,
+    /// whole flight (separated at 1 or more); `None` for a sphere.
+    pub scaled_telemetry_truth: Option<(f64, f64)>,
     /// Process peak resident memory (`VmHWM`), bytes: planning included; 0 where
     /// unknown (not Linux).
     pub peak_rss_bytes: u64,
@@ -155,6 +159,14 @@ pub(super) fn vehicle_and_separation_failures(report: &LoadReport, failures: &mu
     }
     if report.link.tx_errors > 0 {
         failures.push(format!("{} vehicle send errors", report.link.tx_errors));
+    }
+    if let Some((telemetry, truth)) = report.scaled_telemetry_truth {
+        for (what, scaled) in [("telemetry", telemetry), ("true", truth)] {
+            if scaled < 1.0 {
+                failures.push(format!("{what} scaled separation {scaled:.3} < 1"));
+            }
+        }
+        return;
     }
     let safety = report.safety_distance_m;
     for (what, m) in [

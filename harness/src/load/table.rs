@@ -162,8 +162,14 @@ fn separation_and_resource_rows(rows: &mut Rows) {
             metres(r.min_separation_truth_m)
         )
     });
-    rows.row("Safety distance (m)", |r| {
-        format!("{:.2}", r.safety_distance_m)
+    rows.row("Safety distance (m)", |r| match r.scaled_telemetry_truth {
+        Some((telemetry, truth)) => format!(
+            "{:.2} across; scaled separation telemetry / truth {} / {} (≥ 1)",
+            r.safety_distance_m,
+            scaled(telemetry),
+            scaled(truth)
+        ),
+        None => format!("{:.2}", r.safety_distance_m),
     });
     rows.row("Peak RSS, process / in flight (MiB)", |r| {
         format!(
@@ -182,4 +188,13 @@ fn separation_and_resource_rows(rows: &mut Rows) {
             format!("FAIL: {}", r.failures.join("; "))
         }
     });
+}
+
+/// A scaled separation, or a dash when none was measured.
+fn scaled(value: f64) -> String {
+    if value.is_finite() {
+        format!("{value:.2}")
+    } else {
+        "—".to_string()
+    }
 }

@@ -5,6 +5,7 @@ use super::PEAK_WINDOW_S;
 use crate::resources;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+use swarmctl::world::Separation;
 use swarmctl_sitl::Swarm;
 
 /// How often the watcher samples true positions.
@@ -16,6 +17,9 @@ const RESOURCE_PERIOD: Duration = Duration::from_secs(1);
 pub(super) struct Watched {
     /// Smallest true distance between two airborne vehicles, metres.
     pub min_separation_m: f64,
+    /// Under an ellipsoid, the smallest true scaled separation of two airborne
+    /// vehicles (separated at 1 or more).
+    pub min_scaled_separation: Option<f64>,
     /// Highest resident memory sampled, bytes.
     pub max_rss_bytes: u64,
     /// Most open file descriptors sampled.
@@ -33,10 +37,11 @@ type CpuSample = [f64; 4];
 
 /// Until `done`: the smallest true distance between two airborne vehicles (every
 /// [`TRUTH_PERIOD`]), and every [`RESOURCE_PERIOD`] memory, open files and CPU.
-pub(super) fn watch(swarm: &Swarm, done: &AtomicBool) -> Watched {
+pub(super) fn watch(swarm: &Swarm, ellipsoid: Option<Separation>, done: &AtomicBool) -> Watched {
     let own0 = resources::this_thread_cpu_s();
     let start = Instant::now();
     let mut min_m = f64::INFINITY;
+    let mut min_scaled = ellipsoid.map(|_| f64::INFINITY);
     let mut max_rss_bytes = 0;
     let mut max_fds = 0;
     let mut samples: Vec<CpuSample> = Vec::new();
@@ -44,6 +49,9 @@ pub(super) fn watch(swarm: &Swarm, done: &AtomicBool) -> Watched {
     let mut airborne: Vec<[f32; 3]> = Vec::with_capacity(swarm.len());
     while !done.load(Ordering::Relaxed) {
         min_m = min_m.min(crate::true_min_separation_m(swarm, &mut airborne));
+        if let (Some(e), Some(min)) = (&ellipsoid, &mut min_scaled) {
+            *min = min.min(crate::true_min_scaled_separation(&airborne, e));
+        }
         if Instant::now() >= next_sample {
             next_sample += RESOURCE_PERIOD;
             let usage = resources::process_resources();
@@ -56,6 +64,7 @@ pub(super) fn watch(swarm: &Swarm, done: &AtomicBool) -> Watched {
     let (peak_total_share, peak_controller_share) = peak_shares(&samples);
     Watched {
         min_separation_m: min_m,
+        min_scaled_separation: min_scaled,
         max_rss_bytes,
         max_fds,
         own_cpu_s: cpu_since_s(own0, resources::this_thread_cpu_s()),

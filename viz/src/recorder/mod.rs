@@ -14,8 +14,9 @@
 //!
 //! - positions as rows on a `row_period_s` grid, each row holding every drone's
 //!   newest position (one entity for all drones);
-//! - the safety spheres, speeds (one series per drone, also one entity each) and
-//!   the swarm's minimum separation on a coarser `series_period_s` grid;
+//! - the separation spheres or ellipsoids, speeds (one series per drone, also
+//!   one entity each) and the swarm's minimum separation (and scaled separation,
+//!   under an ellipsoid) on a coarser `series_period_s` grid;
 //! - everything buffered and sent as columns every `flush_period_s`: a handful of
 //!   chunks per flush, whatever the number of drones;
 //! - the flown paths once, at the end; events as they come.
@@ -73,11 +74,11 @@ impl Recorder {
         plan_axes: &[TimeAxis],
         options: RecorderOptions,
     ) -> Result<Self, VizError> {
-        let rec = crate::sink::open(&scene.name, sink, crate::FLIGHT_TIMELINE)?;
+        let rec = crate::sink::open(scene, sink, crate::FLIGHT_TIMELINE)?;
         let plan = crate::plan::log_scene(&rec, scene, plan_axes)?;
         let members: Vec<usize> = (0..scene.drones.len()).collect();
         swarm::log_styles(&rec, scene, "flight", &members)?;
-        swarm::log_series_styles(&rec, "flight")?;
+        swarm::log_series_styles(&rec, scene, "flight")?;
         let (tx, rx) = sync_channel(CONTROL_CAPACITY);
         let samples = Arc::new(Samples::new(options.capacity));
         let dropped = Arc::new(AtomicU64::new(0));

@@ -1,6 +1,6 @@
 //! Samples into rows: every drone's newest position on a fixed time grid, and
-//! on a coarser grid the speeds, safety spheres and the swarm's minimum
-//! separation. Pure arithmetic on the recorder thread, no rerun: the worker
+//! on a coarser grid the speeds, separation shapes and the swarm's minimum
+//! separation (and scaled separation, under an ellipsoid). Pure arithmetic on the recorder thread, no rerun: the worker
 //! sends what accumulates here at each flush.
 
 use super::options::RecorderOptions;
@@ -57,6 +57,10 @@ pub(super) struct FlightRows {
     pub(super) series_speeds: Vec<f64>,
     /// The swarm's minimum separation `(t_s, metres)` per series row.
     pub(super) separation: Vec<(f64, f64)>,
+    /// The ellipsoid's radii, when drones are separated by one (see [`Scene::scaled_radii_m`]).
+    scaled_radii_m: Option<[f64; 3]>,
+    /// The swarm's minimum scaled separation `(t_s, scaled)` per series row, under an ellipsoid.
+    pub(super) scaled: Vec<(f64, f64)>,
     pairwise: metrics::Pairwise,
     /// Samples dropped (shared with the handles).
     dropped: Arc<AtomicU64>,
@@ -88,6 +92,8 @@ impl FlightRows {
             series_positions: Vec::new(),
             series_speeds: Vec::new(),
             separation: Vec::new(),
+            scaled_radii_m: scene.scaled_radii_m(),
+            scaled: Vec::new(),
             pairwise: metrics::Pairwise::default(),
             dropped,
             logged: 0,
@@ -179,9 +185,14 @@ impl FlightRows {
             }
             self.series_speeds.push(track.speed_mps);
         }
-        let reported = self.tracks.iter().filter_map(|t| t.latest.map(|(_, p)| p));
-        if let Some(d) = self.pairwise.min_m(reported) {
+        let reported = || self.tracks.iter().filter_map(|t| t.latest.map(|(_, p)| p));
+        if let Some(d) = self.pairwise.min_m(reported()) {
             self.separation.push((t_s, d));
+        }
+        if let Some(radii) = self.scaled_radii_m
+            && let Some(scaled) = self.pairwise.min_scaled(reported(), radii)
+        {
+            self.scaled.push((t_s, scaled));
         }
     }
 }
@@ -247,6 +258,31 @@ mod tests {
         w.close_rows(f64::INFINITY);
         assert_eq!(*w.row_positions.last().expect("rows"), [5.0, 0.0, 0.0]);
         assert_eq!(w.logged, 6);
+    }
+
+    #[test]
+    fn an_ellipsoid_adds_the_scaled_separation_per_series_row() {
+        let scene = Scene {
+            vertical_separation_m: Some(0.75),
+            ..scene(2)
+        };
+        let options = RecorderOptions {
+            row_period_s: 0.1,
+            series_period_s: 0.1,
+            ..RecorderOptions::default()
+        };
+        let mut w = FlightRows::new(&scene, &options, Arc::new(AtomicU64::new(0)));
+        w.sample(sample(0, 0.01, 0.0));
+        w.sample(FlightSample {
+            drone: 1,
+            t_s: 0.02,
+            position_m: [0.0, 0.0, 1.5],
+        });
+        w.close_rows(f64::INFINITY);
+        assert!(!w.scaled.is_empty());
+        // 1.5 m straight above: twice V.
+        assert!((w.scaled[0].1 - 2.0).abs() < 1e-6, "{:?}", w.scaled);
+        assert!((w.separation[0].1 - 1.5).abs() < 1e-6);
     }
 
     #[test]

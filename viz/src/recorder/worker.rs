@@ -1,7 +1,7 @@
 //! The recorder thread: wakes every `poll_period_s`, handles control
 //! messages, swaps the sample buffer out and places the samples into rows,
 //! and every `flush_period_s` sends the rows as columns; at the end the flown
-//! paths and the safety-distance line.
+//! paths and the limit lines.
 //!
 //! Events are the only thing logged with the stream's current time, which is
 //! per thread: it is set and used here with nothing in between.
@@ -149,7 +149,8 @@ impl Worker {
         crate::plan::log_plan_axis(&self.rec, &self.plan, &axis)
     }
 
-    /// Sends the buffered rows and series as columns: five chunks in all.
+    /// Sends the buffered rows and series as columns: five chunks in all (six
+    /// under an ellipsoid, with the scaled separation).
     fn flush(&mut self) -> Result<(), VizError> {
         let rows = &mut self.rows;
         let n = rows.tracks.len();
@@ -171,10 +172,13 @@ impl Worker {
         rows.series_times_s.clear();
         rows.series_positions.clear();
         let separation = std::mem::take(&mut rows.separation);
-        swarm::send_series(rec, &paths::min_separation("flight"), axis, &separation)
+        swarm::send_series(rec, &paths::min_separation("flight"), axis, &separation)?;
+        let scaled = std::mem::take(&mut rows.scaled);
+        swarm::send_series(rec, &paths::min_scaled_separation("flight"), axis, &scaled)
     }
 
-    /// At the end: the flown paths as line strips and the safety-distance line.
+    /// At the end: the flown paths as line strips, the safety-distance line and,
+    /// under an ellipsoid, the scaled separation's limit.
     fn finish_static(&mut self) -> Result<(), VizError> {
         let strips: Vec<(usize, Vec<[f32; 3]>)> = self
             .rows
@@ -185,17 +189,21 @@ impl Worker {
             .map(|(i, t)| (i, std::mem::take(&mut t.path)))
             .collect();
         swarm::log_paths(&self.rec, &self.scene, "flight", &strips)?;
-        if let Some(first) = self.rows.first_t_s {
-            let line = [
-                (first, self.scene.safety_distance_m),
-                (self.rows.last_t_s, self.scene.safety_distance_m),
-            ];
-            swarm::send_series(
-                &self.rec,
-                &paths::safety_distance("flight"),
-                &self.axis,
-                &line,
-            )?;
+        let Some(first) = self.rows.first_t_s else {
+            return Ok(());
+        };
+        let span = [(first, 0.0), (self.rows.last_t_s, 0.0)];
+        let (rec, axis) = (&self.rec, &self.axis);
+        let distance_m = self.scene.safety_distance_m;
+        swarm::send_limit_line(
+            rec,
+            &paths::safety_distance("flight"),
+            axis,
+            &span,
+            distance_m,
+        )?;
+        if self.scene.scaled_radii_m().is_some() {
+            swarm::send_limit_line(rec, &paths::scaled_limit("flight"), axis, &span, 1.0)?;
         }
         Ok(())
     }
