@@ -12,7 +12,7 @@ use std::io::IsTerminal;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 use swarmctl::fly::log::LogEvent;
-use swarmctl::fly::{DroneStatus, FlightObserver, FlightStatus};
+use swarmctl::fly::{FlightObserver, FlightStatus};
 
 /// How to show status.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,12 +95,9 @@ impl Monitor {
     }
 
     /// One status line from the current state of every drone.
-    fn line(
-        since_arm_s: f64,
-        t_exec_s: Option<f64>,
-        min_separation_m: f64,
-        drones: &[DroneStatus],
-    ) -> String {
+    fn line(status: &FlightStatus) -> String {
+        let (since_arm_s, t_exec_s) = (status.since_arm_s, status.t_exec_s);
+        let (min_separation_m, drones) = (status.min_separation_m, &status.drones);
         let mut phases: BTreeMap<&str, usize> = BTreeMap::new();
         for d in drones {
             *phases.entry(d.phase).or_default() += 1;
@@ -131,16 +128,14 @@ impl Monitor {
         if min_separation_m.is_finite() {
             line += &format!("  min sep {min_separation_m:.2}m");
         }
+        if let Some(scaled) = status.min_scaled_separation.filter(|s| s.is_finite()) {
+            line += &format!(" (scaled {scaled:.2}, separated at 1)");
+        }
         line
     }
 
     fn update(&mut self, status: &FlightStatus) {
-        let line = Self::line(
-            status.since_arm_s,
-            status.t_exec_s,
-            status.min_separation_m,
-            &status.drones,
-        );
+        let line = Self::line(status);
         if let Some(bar) = &self.bar {
             bar.set_message(line.clone());
         } else if self.plain
@@ -166,5 +161,30 @@ impl Monitor {
         {
             eprintln!("{line}");
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn status(min_scaled_separation: Option<f64>) -> FlightStatus {
+        FlightStatus {
+            since_arm_s: 12.0,
+            t_exec_s: None,
+            min_separation_m: 0.73,
+            min_scaled_separation,
+            drones: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn an_ellipsoid_flight_shows_its_scaled_separation() {
+        let line = Monitor::line(&status(Some(1.304)));
+        assert!(
+            line.ends_with("min sep 0.73m (scaled 1.30, separated at 1)"),
+            "{line}"
+        );
+        assert!(Monitor::line(&status(None)).ends_with("min sep 0.73m"));
     }
 }

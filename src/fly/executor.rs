@@ -120,12 +120,17 @@ pub async fn run(
             tap.forward(observers, flight.drones, armed_at, &flight.out.events);
         }
         let min_separation_m = flight.out.min_separation_m;
+        let min_scaled = flight
+            .settings
+            .ellipsoid
+            .map(|_| flight.out.min_scaled_separation);
         Tap::status(
             observers,
             flight.drones,
             since_arm_s,
             t_exec_s,
             min_separation_m,
+            min_scaled,
         );
         if flight.finished() {
             break;

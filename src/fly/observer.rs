@@ -31,6 +31,9 @@ pub struct FlightStatus {
     pub t_exec_s: Option<f64>,
     /// Smallest separation measured so far, metres (∞ before two drones fly).
     pub min_separation_m: f64,
+    /// Under an ellipsoidal separation, the smallest scaled separation so far
+    /// (separated at 1 or more; ∞ before two drones fly); `None` for a sphere.
+    pub min_scaled_separation: Option<f64>,
     /// Every drone, in plan order.
     pub drones: Vec<DroneStatus>,
 }

@@ -60,6 +60,7 @@ impl Tap {
         since_arm_s: f64,
         t_exec_s: Option<f64>,
         min_separation_m: f64,
+        min_scaled_separation: Option<f64>,
     ) {
         if !observers.iter().any(|o| o.wants_status()) {
             return;
@@ -68,6 +69,7 @@ impl Tap {
             since_arm_s,
             t_exec_s,
             min_separation_m,
+            min_scaled_separation,
             drones: drones.iter().map(DroneRun::status).collect(),
         };
         for o in observers.iter().filter(|o| o.wants_status()) {
