@@ -447,20 +447,7 @@ fn cross_candidates(
                         });
                     }
                     // `prev` ended before `step`, so it is not the final visit: it has a Leave.
-                    if let Some(leave) = prev.leave {
-                        edges.push(CrossEdge {
-                            from: EventId {
-                                drone: i,
-                                index: leave,
-                            },
-                            to: EventId {
-                                drone: j,
-                                index: visit.enter,
-                            },
-                            voxel: visit.voxel,
-                            delay_s: 0.0,
-                        });
-                    }
+                    edges.extend(handover(i, prev, j, visit));
                 }
             }
             for stacked in reach.related_cells(world, visit.voxel) {
@@ -480,25 +467,29 @@ fn cross_candidates(
                         second: id(j),
                     });
                 }
-                if let Some(leave) = prev.leave {
-                    edges.push(CrossEdge {
-                        from: EventId {
-                            drone: i,
-                            index: leave,
-                        },
-                        to: EventId {
-                            drone: j,
-                            index: visit.enter,
-                        },
-                        voxel: visit.voxel,
-                        delay_s: 0.0,
-                    });
-                }
+                edges.extend(handover(i, prev, j, visit));
             }
             last[cell] = Some((j, m));
         }
     }
     Ok(edges)
+}
+
+/// The type-2 edge from drone `i`'s `Leave` of its visit `prev` to drone `j`'s
+/// `Enter` of `visit` (none if `prev` is a final visit, which has no `Leave`).
+fn handover(i: u32, prev: &Visit, j: u32, visit: &Visit) -> Option<CrossEdge> {
+    prev.leave.map(|leave| CrossEdge {
+        from: EventId {
+            drone: i,
+            index: leave,
+        },
+        to: EventId {
+            drone: j,
+            index: visit.enter,
+        },
+        voxel: visit.voxel,
+        delay_s: 0.0,
+    })
 }
 
 /// Drops type-2 edges implied by another type-2 edge between the same two drones:

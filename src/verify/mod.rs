@@ -515,21 +515,24 @@ fn margin(s: &[[f64; 4]], k: usize, margin_m: f64) -> f64 {
     if still { 0.0 } else { margin_m }
 }
 
+/// Which pair came closest and when, for a violation message.
+fn closest_text(closest: Option<&ClosestPair>) -> String {
+    closest
+        .map(|c| {
+            format!(
+                " (drones #{} and #{} near t = {:.3} s)",
+                c.first, c.second, c.time_s
+            )
+        })
+        .unwrap_or_default()
+}
+
 fn violations(report: &SeparationReport, limits: &Limits, period_s: f64) -> Vec<String> {
     let mut v = Vec::new();
     let separation_m = limits.setpoint_separation_m();
     if let Some(scaled) = &report.scaled {
         if scaled.min_bound < 1.0 - TOLERANCE {
-            let who = scaled
-                .closest
-                .as_ref()
-                .map(|c| {
-                    format!(
-                        " (drones #{} and #{} near t = {:.3} s)",
-                        c.first, c.second, c.time_s
-                    )
-                })
-                .unwrap_or_default();
+            let who = closest_text(scaled.closest.as_ref());
             v.push(format!(
                 "scaled separation may drop to {:.4}, below 1: setpoints inside each other's cylinder of radius {:.3} m and half height {:.3} m (the separation ellipsoid {} × {} m grown by twice the tracking error {} m){who}",
                 scaled.min_bound,
@@ -541,16 +544,7 @@ fn violations(report: &SeparationReport, limits: &Limits, period_s: f64) -> Vec<
             ));
         }
     } else if report.min_separation_bound_m < separation_m - TOLERANCE {
-        let who = report
-            .closest
-            .as_ref()
-            .map(|c| {
-                format!(
-                    " (drones #{} and #{} near t = {:.3} s)",
-                    c.first, c.second, c.time_s
-                )
-            })
-            .unwrap_or_default();
+        let who = closest_text(report.closest.as_ref());
         v.push(format!(
             "separation may drop to {:.4} m, below the setpoint separation {} m (safety distance {} m plus twice the tracking error {} m){who}",
             report.min_separation_bound_m,
