@@ -114,9 +114,12 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
             .all(|t| t.max_m <= flown.limits.tracking_error_m),
         tracking_holds: logs.iter().map(|d| d.tracking_holds).sum(),
         tracking_hold_s: logs.iter().map(|d| d.tracking_hold_s).sum(),
-        max_final_distance_to_goal_m: logs
+        // A lost drone's last report says where it was, not where it landed.
+        max_final_distance_to_goal_m: drones
             .iter()
-            .filter_map(|d| d.final_distance_to_goal_m)
+            .zip(logs)
+            .filter(|(d, _)| !matches!(d.phase(), Phase::Lost { .. }))
+            .filter_map(|(_, l)| l.final_distance_to_goal_m)
             .fold(0.0, f64::max),
     }
 }

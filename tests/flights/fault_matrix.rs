@@ -82,6 +82,13 @@ async fn a_drone_lost_for_good_is_replanned_around_and_the_rest_complete() {
             .any(|e| e.message.starts_with("replanned without b1")),
         "the splice is in the log"
     );
+    // The survivors landed on their pads; b1's last report (hovering where it was
+    // lost) is not a landing and is left out.
+    assert!(
+        log.summary.max_final_distance_to_goal_m < 0.2,
+        "final pad distance {} m",
+        log.summary.max_final_distance_to_goal_m
+    );
 }
 
 /// A crash is a loss that is not hovering: b1's motors stop 5 s after takeoff, it
