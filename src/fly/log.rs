@@ -95,8 +95,8 @@ pub struct Summary {
     #[serde(default)]
     pub tracking_hold_s: f64,
     /// Largest final distance from a drone to the pad-layer cell it lands from
-    /// (before touchdown), metres; lost drones are left out (their last report is
-    /// not where they came down).
+    /// (before touchdown), metres; lost and handed-over drones are left out (they
+    /// did not land under swarmctl: the summary lists them).
     pub max_final_distance_to_goal_m: f64,
     /// Drones given up for lost (nothing heard for `contingency::LOST_AFTER_S`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -114,11 +114,12 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
             .all(|t| t.max_m <= flown.limits.tracking_error_m),
         tracking_holds: logs.iter().map(|d| d.tracking_holds).sum(),
         tracking_hold_s: logs.iter().map(|d| d.tracking_hold_s).sum(),
-        // A lost drone's last report says where it was, not where it landed.
+        // A lost drone's last report says where it was, not where it landed; a
+        // drone handed over did not land (both are listed on their own).
         max_final_distance_to_goal_m: drones
             .iter()
             .zip(logs)
-            .filter(|(d, _)| !matches!(d.phase(), Phase::Lost { .. }))
+            .filter(|(d, _)| !matches!(d.phase(), Phase::Lost { .. } | Phase::HandedOver { .. }))
             .filter_map(|(_, l)| l.final_distance_to_goal_m)
             .fold(0.0, f64::max),
     }
