@@ -102,6 +102,11 @@ impl VerticalReach {
 
     /// The cells of `airspace` related to `v` (free or not), nearest first.
     pub fn related_cells(&self, airspace: &VoxelGrid, v: Voxel) -> Vec<Voxel> {
+        // The schedule asks this for every visit of every drone: a sphere (or a
+        // flat ellipsoid) answers without walking the column or allocating.
+        if self.is_trivial(airspace) {
+            return Vec::new();
+        }
         let [_, _, depth] = airspace.dimensions();
         let bottom = airspace.min_voxel().z;
         let mut out: Vec<Voxel> = (0..depth)
