@@ -356,10 +356,7 @@ fn read_links(from_child: &mut impl BufRead) -> anyhow::Result<Vec<VehicleLink>>
             return Ok(addresses
                 .split_whitespace()
                 .enumerate()
-                .map(|(i, a)| VehicleLink {
-                    endpoint: format!("udpout:{a}"),
-                    system_id: i as u8 + 1,
-                })
+                .map(|(i, a)| VehicleLink::mavlink(format!("udpout:{a}"), i as u8 + 1))
                 .collect());
         }
     }

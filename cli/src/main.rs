@@ -26,6 +26,8 @@ enum Command {
     Gen(commands::generate::Args),
     /// Plan collision-free paths (makespan-optimal TAPF) and write the plan file.
     Plan(commands::plan::Args),
+    /// Serve some of a mission's drones to a controller over Zenoh (`fly --via zenoh`).
+    Relay(commands::relay::Args),
     /// Rebuild a Rerun recording from a flight log.
     Replay(commands::replay::Args),
     /// Run mock PX4 / ArduPilot quadcopters on UDP until Ctrl-C (see sitl/README.md).
@@ -42,6 +44,7 @@ fn main() -> ExitCode {
         Command::Fly(args) => commands::fly::run(args),
         Command::Gen(args) => commands::generate::run(args),
         Command::Plan(args) => commands::plan::run(args),
+        Command::Relay(args) => commands::relay::run(args),
         Command::Replay(args) => commands::replay::run(args),
         Command::Sitl(args) => commands::sitl::run(args),
         Command::Template(args) => commands::template::run(args),

@@ -82,10 +82,7 @@ fn sender(
     let links = ports
         .iter()
         .enumerate()
-        .map(|(i, port)| VehicleLink {
-            endpoint: format!("udpout:127.0.0.1:{port}"),
-            system_id: i as u8 + 1,
-        })
+        .map(|(i, port)| VehicleLink::mavlink(format!("udpout:127.0.0.1:{port}"), i as u8 + 1))
         .collect();
     let options = swarmctl_harness::bundled_sitl::fly_options(links);
 

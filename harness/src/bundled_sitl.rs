@@ -37,6 +37,14 @@ pub enum BundledSitlError {
         /// The plan's drone ids, comma-separated, to show what was meant.
         known: String,
     },
+    /// A relay was given a drone the mission does not have.
+    #[error("no drone {drone:?} in the mission (drones: {known})")]
+    NotInMission {
+        /// The drone id given.
+        drone: String,
+        /// The mission's drone ids, comma-separated.
+        known: String,
+    },
     /// More drones than MAVLink system ids the SITL hands out (1–254); the field
     /// is how many the plan has.
     #[error("the bundled SITL gives system ids 1–254, so at most 254 drones ({0} given)")]
@@ -74,17 +82,55 @@ pub fn vehicle_configs_in(
     if plan.drones.len() > 254 {
         return Err(BundledSitlError::TooManyDrones(plan.drones.len()));
     }
-    for f in faults {
-        if let Some(drone) = f.drone()
-            && !plan.drones.iter().any(|d| d.id == drone)
-        {
-            let known: Vec<&str> = plan.drones.iter().map(|d| d.id.as_str()).collect();
-            return Err(BundledSitlError::UnknownDrone {
-                drone: drone.to_string(),
+    check_fault_drones(faults, plan.drones.iter().map(|d| d.id.as_str()))?;
+    let standing = plan.drones.iter().map(|d| {
+        let start = mission.airspace.center_m(d.path[0]);
+        (d.id.as_str(), [start.x, start.y, 0.0])
+    });
+    Ok(configs_standing(mission, standing, flavour, faults, frames))
+}
+
+/// Vehicle configurations for the mission's drones `ids` (a relay's share, in
+/// that order, system ids 1, 2, …), each standing on its pad, with the mission's
+/// limits and the `faults` that name it, each in its own local frame.
+pub fn relay_vehicle_configs(
+    mission: &Mission,
+    ids: &[String],
+    flavour: Flavour,
+    faults: &[FaultSpec],
+) -> Result<Vec<VehicleConfig>, BundledSitlError> {
+    if ids.len() > 254 {
+        return Err(BundledSitlError::TooManyDrones(ids.len()));
+    }
+    let mut standing = Vec::new();
+    for id in ids {
+        let Some((_, drone)) = mission.drones().find(|(_, d)| d.id == *id) else {
+            let known: Vec<&str> = mission.drones().map(|(_, d)| d.id.as_str()).collect();
+            return Err(BundledSitlError::NotInMission {
+                drone: id.clone(),
                 known: known.join(", "),
             });
-        }
+        };
+        standing.push((id.as_str(), mission.pad_ground_m(drone)));
     }
+    check_fault_drones(faults, ids.iter().map(String::as_str))?;
+    Ok(configs_standing(
+        mission,
+        standing.into_iter(),
+        flavour,
+        faults,
+        FrameSource::PerVehicle,
+    ))
+}
+
+/// One configuration per `(drone id, ground ENU metres)`, system ids from 1.
+fn configs_standing<'a>(
+    mission: &Mission,
+    standing: impl Iterator<Item = (&'a str, [f64; 3])>,
+    flavour: Flavour,
+    faults: &[FaultSpec],
+    frames: FrameSource,
+) -> Vec<VehicleConfig> {
     let origin = mission
         .geo_origin
         .map_or_else(GeoPoint::default, |g| GeoPoint {
@@ -92,27 +138,42 @@ pub fn vehicle_configs_in(
             lon_deg: g.lon_deg,
             alt_amsl_m: g.alt_m,
         });
-    let configs = plan
-        .drones
-        .iter()
+    standing
         .enumerate()
-        .map(|(i, d)| {
-            let start = mission.airspace.center_m(d.path[0]);
-            let ground_ned_m = frames::ned_f32_from_enu([start.x, start.y, 0.0]);
+        .map(|(i, (id, ground_enu_m))| {
+            let ground_ned_m = frames::ned_f32_from_enu(ground_enu_m);
             let mut c = VehicleConfig::new(i as u8 + 1, flavour).at(origin, ground_ned_m);
             if frames == FrameSource::PerVehicle {
                 c = c.own_frame();
             }
             c.max_speed_mps = mission.limits.max_speed_mps as f32;
             c.max_accel_mps2 = mission.limits.max_accel_mps2 as f32;
-            c.faults = faults_for(&d.id, faults);
+            c.faults = faults_for(id, faults);
             // The link-loss failsafe swarmctl expects (see the README): hold where you
             // are, so the plan graph keeps everyone else clear of the silent drone.
             c.offboard_loss_land_after = Duration::MAX;
             c
         })
-        .collect();
-    Ok(configs)
+        .collect()
+}
+
+/// Refuses a `--fault` naming a drone not among `ids`.
+fn check_fault_drones<'a>(
+    faults: &[FaultSpec],
+    ids: impl Iterator<Item = &'a str> + Clone,
+) -> Result<(), BundledSitlError> {
+    for f in faults {
+        if let Some(drone) = f.drone()
+            && !ids.clone().any(|d| d == drone)
+        {
+            let known: Vec<&str> = ids.clone().collect();
+            return Err(BundledSitlError::UnknownDrone {
+                drone: drone.to_string(),
+                known: known.join(", "),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The SITL faults of vehicle `drone`: link-wide faults apply to everyone,
@@ -176,10 +237,7 @@ pub async fn start(
         .addresses()
         .into_iter()
         .zip(ids)
-        .map(|(address, system_id)| VehicleLink {
-            endpoint: format!("udpout:{address}"),
-            system_id,
-        })
+        .map(|(address, system_id)| VehicleLink::mavlink(format!("udpout:{address}"), system_id))
         .collect();
     Ok((swarm, links))
 }

@@ -12,7 +12,7 @@ use swarmctl::plan::PlanError;
 pub enum HarnessError {
     /// The load benchmark was asked for a swarm the bundled SITL cannot fly (it
     /// gives each vehicle one of the system ids 1–254).
-    #[error("the bundled SITL flies 1–254 vehicles ({vehicles} asked)")]
+    #[error("the load mission has 1–5000 drones ({vehicles} asked)")]
     LoadVehicles {
         /// Vehicles asked for.
         vehicles: usize,

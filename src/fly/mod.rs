@@ -174,13 +174,18 @@ fn routes(
 async fn connect_all(ids: &[String], options: &FlyOptions) -> Result<Vec<Arc<Session>>, FlyError> {
     let mut sessions = Vec::new();
     for (id, v) in ids.iter().zip(&options.vehicles) {
-        let session = Session::connect(
-            &v.endpoint,
-            v.system_id,
-            options.command_policy,
-            options.signing_key.as_ref(),
-        )
-        .await
+        let session = match &v.carried {
+            Some(link) => Session::carried(link, v.system_id, options.command_policy),
+            None => {
+                Session::connect(
+                    &v.endpoint,
+                    v.system_id,
+                    options.command_policy,
+                    options.signing_key.as_ref(),
+                )
+                .await
+            }
+        }
         .map_err(|source| FlyError::Link {
             drone: id.clone(),
             source,

@@ -1,17 +1,41 @@
 //! How to reach the vehicles and how strict the flight is.
 
 use super::observer::FlightObserver;
-use crate::link::{CommandPolicy, SigningKey};
+use crate::link::{CarriedLink, CommandPolicy, SigningKey};
 use std::sync::Arc;
 use std::time::Duration;
 
 /// Where to reach one drone's autopilot.
 #[derive(Debug, Clone)]
 pub struct VehicleLink {
-    /// rust-mavlink address, e.g. `udpout:127.0.0.1:14540`.
+    /// rust-mavlink address, e.g. `udpout:127.0.0.1:14540`; for a carried link,
+    /// what carries it (`zenoh relay north`), as the flight log shows it.
     pub endpoint: String,
     /// The vehicle's MAVLink system id: messages from any other system are ignored.
+    /// Behind a relay it is the id in the relay's own MAVLink network.
     pub system_id: u8,
+    /// Frames carried by someone else (a relay) instead of a connection to `endpoint`.
+    pub carried: Option<Arc<CarriedLink>>,
+}
+
+impl VehicleLink {
+    /// A vehicle reached over a MAVLink connection of our own.
+    pub fn mavlink(endpoint: impl Into<String>, system_id: u8) -> Self {
+        Self {
+            endpoint: endpoint.into(),
+            system_id,
+            carried: None,
+        }
+    }
+
+    /// A vehicle whose frames `link` carries (see [`crate::link::transport`]).
+    pub fn carried(link: Arc<CarriedLink>, system_id: u8) -> Self {
+        Self {
+            endpoint: link.label().to_string(),
+            system_id,
+            carried: Some(link),
+        }
+    }
 }
 
 /// Everything `fly` needs besides the mission and plan.

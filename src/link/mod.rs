@@ -14,6 +14,7 @@ pub mod receive;
 pub mod session;
 pub mod signing;
 pub mod telemetry;
+pub mod transport;
 
 pub use error::LinkError;
 pub use flavour::{Flavour, ModeRequest};
@@ -21,3 +22,4 @@ pub use frames::VehicleFrame;
 pub use session::{CommandPolicy, Session};
 pub use signing::{SigningKey, SigningKeyError};
 pub use telemetry::{PositionSample, VehicleState};
+pub use transport::{CarriedLink, Carrier, CarrierInbox, carried};

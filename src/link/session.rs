@@ -15,12 +15,12 @@ use super::messages::{
 use super::receive;
 use super::signing::SigningKey;
 use super::telemetry::VehicleState;
+use super::transport::{CarriedLink, Received, Transport};
 use mavlink::dialects::common::{
     COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavParamType, MavResult,
     PARAM_REQUEST_READ_DATA, PARAM_SET_DATA,
 };
-use mavlink::error::MessageReadError;
-use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader};
+use mavlink::{AsyncMavConnection, MavHeader};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 use tokio::sync::broadcast;
@@ -68,9 +68,10 @@ const SYS_STATUS_ID: f32 = 1.0;
 pub struct Session {
     /// The vehicle's MAVLink system id; messages from other systems are ignored.
     pub system_id: u8,
-    /// The rust-mavlink address the session was opened on (for error messages).
+    /// The rust-mavlink address the session was opened on, or what carries its
+    /// frames (for error messages).
     pub endpoint: String,
-    connection: Arc<AsyncConnection<MavMessage>>,
+    transport: Arc<Transport>,
     state: Arc<Mutex<VehicleState>>,
     acks: broadcast::Sender<COMMAND_ACK_DATA>,
     boot: Instant,
@@ -107,26 +108,72 @@ impl Session {
         if let Some(key) = signing {
             connection.setup_signing(Some(key.config()));
         }
-        let connection = Arc::new(connection);
+        Ok(Self::start(
+            Transport::Direct(Box::new(connection)),
+            endpoint,
+            system_id,
+            policy,
+        ))
+    }
+
+    /// A session over a link something else carries (a relay): the same
+    /// commands, retries and telemetry as over a socket. Signing, when the
+    /// mission signs, is the carrier's to do towards its vehicles.
+    ///
+    /// Fails if another session already took the link.
+    pub fn carried(
+        link: &Arc<CarriedLink>,
+        system_id: u8,
+        policy: CommandPolicy,
+    ) -> Result<Session, LinkError> {
+        let end = link.take().ok_or_else(|| LinkError::Connect {
+            endpoint: link.label().to_string(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::AddrInUse,
+                "another session already speaks over this link",
+            ),
+        })?;
+        Ok(Self::start(
+            Transport::Carried(end),
+            link.label(),
+            system_id,
+            policy,
+        ))
+    }
+
+    fn start(
+        transport: Transport,
+        endpoint: &str,
+        system_id: u8,
+        policy: CommandPolicy,
+    ) -> Session {
+        let transport = Arc::new(transport);
         let state = Arc::new(Mutex::new(VehicleState::default()));
         let (acks, _) = broadcast::channel(32);
         let reader = tokio::spawn(read_loop(
-            connection.clone(),
+            transport.clone(),
             system_id,
             state.clone(),
             acks.clone(),
         ));
-        let heartbeat = tokio::spawn(heartbeat_loop(connection.clone()));
-        Ok(Session {
+        let heartbeat = tokio::spawn(heartbeat_loop(transport.clone()));
+        Session {
             system_id,
             endpoint: endpoint.to_string(),
-            connection,
+            transport,
             state,
             acks,
             boot: Instant::now(),
             policy,
             tasks: vec![reader, heartbeat],
-        })
+        }
+    }
+
+    /// Why whatever carries this session's frames says the vehicle cannot be
+    /// reached now (its relay left), if it says so. A direct link never does:
+    /// silence is how its loss shows.
+    pub fn carrier_down(&self) -> Option<String> {
+        self.transport.down()
     }
 
     /// The vehicle state (locked briefly: never hold it across an await).
@@ -414,11 +461,7 @@ impl Session {
     }
 
     async fn send(&self, message: &MavMessage) -> Result<(), LinkError> {
-        self.connection
-            .send(&gcs_header(), message)
-            .await
-            .map(|_| ())
-            .map_err(|e| LinkError::Send(e.to_string()))
+        self.transport.send(&gcs_header(), message).await
     }
 }
 
@@ -432,14 +475,14 @@ fn gcs_header() -> MavHeader {
 }
 
 /// The ground-station heartbeat, once a second for the session's lifetime.
-async fn heartbeat_loop(connection: Arc<AsyncConnection<MavMessage>>) {
+async fn heartbeat_loop(transport: Arc<Transport>) {
     let mut tick = tokio::time::interval(Duration::from_secs(1));
     let heartbeat = gcs_heartbeat();
     loop {
         tick.tick().await;
         // A failed send is retried next second; link loss is detected from the
         // vehicle's side (its heartbeats stop), not from ours.
-        let _ = connection.send(&gcs_header(), &heartbeat).await;
+        let _ = transport.send(&gcs_header(), &heartbeat).await;
     }
 }
 
@@ -447,24 +490,27 @@ async fn heartbeat_loop(connection: Arc<AsyncConnection<MavMessage>>) {
 /// [`receive::fold`] (which drops anything not from `system_id`) and passing the
 /// COMMAND_ACKs meant for us to whoever waits on a command.
 async fn read_loop(
-    connection: Arc<AsyncConnection<MavMessage>>,
+    transport: Arc<Transport>,
     system_id: u8,
     state: Arc<Mutex<VehicleState>>,
     acks: broadcast::Sender<COMMAND_ACK_DATA>,
 ) {
     loop {
-        let (header, message) = match connection.recv().await {
-            Ok(m) => m,
+        let (header, message) = match transport.recv().await {
+            Received::Message(header, message) => (header, message),
             // A frame with a valid CRC that does not decode (unknown message, bad
             // enum value): the next one may be fine. Never sleep on these, or a
             // sender of junk could starve the vehicle's own messages.
-            Err(MessageReadError::Parse(_)) => continue,
-            Err(_) => {
-                // A TCP link closed, ICMP "port unreachable" and the like: the
-                // vehicle may come back.
+            Received::Undecodable => continue,
+            // A TCP link closed, ICMP "port unreachable" and the like: the
+            // vehicle may come back.
+            Received::Failed => {
                 tokio::time::sleep(Duration::from_millis(20)).await;
                 continue;
             }
+            // The carrier is gone: silence from here on, which the flight
+            // sees as a lost link.
+            Received::Closed => return,
         };
         let ack = {
             let mut s = state.lock().unwrap_or_else(|e| e.into_inner());

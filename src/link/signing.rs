@@ -107,7 +107,7 @@ impl SigningKey {
     }
 
     /// Sign everything we send; accept only correctly signed input.
-    pub(crate) fn config(&self) -> SigningConfig {
+    pub fn config(&self) -> SigningConfig {
         SigningConfig::new(self.0, GCS_LINK_ID, true, false)
     }
 }

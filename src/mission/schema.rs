@@ -282,6 +282,36 @@ pub struct LinkSpec {
     /// MAVLink 2 signing: where the swarm's secret key is kept (never the key).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub signing: Option<SigningSpec>,
+    /// Relays that carry the vehicles' links over Zenoh (`swarmctl relay`), each
+    /// with the drones it serves; none: the controller reaches every vehicle itself.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub relays: Vec<RelaySpec>,
+    /// Where the controller meets the relays over Zenoh (default: it listens on
+    /// `tcp/127.0.0.1:7447`, where relays connect by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub zenoh: Option<ZenohSpec>,
+}
+
+/// One relay: a process owning the MAVLink links of some drones, reached over Zenoh.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RelaySpec {
+    /// Unique among the relays; `swarmctl relay MISSION --name NAME` serves its drones.
+    pub name: String,
+    /// The drone ids it serves; every drone is served by exactly one relay.
+    pub drones: Vec<String>,
+}
+
+/// Zenoh endpoints (`tcp/HOST:PORT`).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZenohSpec {
+    /// Where the controller accepts Zenoh sessions.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub listen: Vec<String>,
+    /// Routers (`zenohd`) or relays the controller connects to.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub connect: Vec<String>,
 }
 
 /// Where a mission's MAVLink 2 signing key comes from: exactly one of the two.
@@ -306,6 +336,8 @@ impl Default for LinkSpec {
             link_timeout_s: default_link_timeout_s(),
             speed_headroom: None,
             signing: None,
+            relays: Vec::new(),
+            zenoh: None,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! A validated mission: every field checked, coordinates inside the world.
 
 pub use super::schema::Geodetic;
-use super::schema::{Autopilot, Landing};
+use super::schema::{Autopilot, Landing, RelaySpec, ZenohSpec};
 use crate::world::{Separation, VerticalReach, Voxel, VoxelGrid};
 use serde::{Deserialize, Serialize};
 
@@ -224,6 +224,11 @@ pub struct LinkSettings {
     pub speed_headroom: f64,
     /// Where the MAVLink 2 signing key is; `None` flies unsigned.
     pub signing: Option<KeySource>,
+    /// Relays carrying the vehicles' links over Zenoh, each drone in exactly one;
+    /// empty when the controller reaches every vehicle itself.
+    pub relays: Vec<RelaySpec>,
+    /// Where the controller meets the relays; `None`: the default.
+    pub zenoh: Option<ZenohSpec>,
 }
 
 /// Where a signing key is read from when a flight starts (see `link::signing`).

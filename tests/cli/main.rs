@@ -1,5 +1,5 @@
 //! The `swarmctl` command line end to end: `check`, `plan`, `gen`, `replay` and
-//! the Rerun recordings, run as a user runs them.
+//! the Rerun recordings, and flights through relays, run as a user runs them.
 // Tests may unwrap, expect and run long: a failure is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::too_many_lines)]
 
@@ -8,4 +8,5 @@ mod support;
 
 mod cli_check;
 mod cli_plan;
+mod relays;
 mod viz_recordings;

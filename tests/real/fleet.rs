@@ -72,10 +72,10 @@ impl Fleet {
                 track,
                 stop,
             ));
-            fleet.links.push(fly::VehicleLink {
-                endpoint: d.endpoint.clone().expect("endpoint"),
-                system_id: d.system_id.expect("system id"),
-            });
+            fleet.links.push(fly::VehicleLink::mavlink(
+                d.endpoint.clone().expect("endpoint"),
+                d.system_id.expect("system id"),
+            ));
         }
         fleet
     }

@@ -79,7 +79,8 @@ enum Target {
     /// Plan and fly an N-drone mission on N bundled SITL vehicles in one process;
     /// report planning time, CPU, setpoint timing, link, separation and memory.
     Load {
-        /// Drones, one SITL vehicle each (1–254).
+        /// Drones, one SITL vehicle each (1–254 in one process; up to 5000
+        /// through relays).
         #[arg(long, default_value_t = 200)]
         vehicles: usize,
         /// Seeds the generated mission and the planner.
@@ -98,6 +99,18 @@ enum Target {
         /// across) instead of the 0.25 m sphere; separations are judged scaled.
         #[arg(long, value_name = "METRES")]
         vertical_separation: Option<f64>,
+        /// `mavlink`: controller and vehicles in this process (at most 254).
+        /// `zenoh`: the vehicles behind `--relays` relay processes (254 each),
+        /// the controller here, over Zenoh on loopback.
+        #[arg(long, value_parser = ["mavlink", "zenoh"], default_value = "mavlink")]
+        via: String,
+        /// With --via zenoh: how many relay processes share the vehicles.
+        #[arg(long, default_value_t = 4)]
+        relays: usize,
+        /// With --via zenoh: first fly the same mission in one process, no
+        /// relays, and print both side by side (at most 254 drones).
+        #[arg(long)]
+        baseline: bool,
     },
 }
 
@@ -122,11 +135,23 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             limit,
             mission_out,
             vertical_separation,
+            via,
+            relays,
+            baseline,
         } => {
             let mut options = swarmctl_harness::load::LoadOptions::new(vehicles, seed);
             options.plan_runs = plan_runs;
             options.limit = Duration::try_from_secs_f64(limit)?;
             options.vertical_separation_m = vertical_separation;
+            if via == "zenoh" {
+                return super::bench_relays::load(&options, relays, baseline);
+            }
+            if vehicles > 254 {
+                anyhow::bail!(
+                    "one process flies at most 254 vehicles (MAVLink system ids 1–254): fly {vehicles} through relays with --via zenoh --relays {}",
+                    vehicles.div_ceil(254)
+                );
+            }
             load(&options, mission_out.as_deref())
         }
     }

@@ -73,9 +73,46 @@ pub struct Args {
     /// `link.signing`. The bundled SITL then enforces signatures too.
     #[arg(long, value_name = "FILE")]
     signing_key_file: Option<PathBuf>,
+    /// How the controller reaches the vehicles: `mavlink` (its own sockets, or
+    /// the bundled SITL) or `zenoh` (through `swarmctl relay` processes). Default:
+    /// zenoh when the mission has `link.relays`, else mavlink.
+    #[arg(long, value_parser = ["mavlink", "zenoh"])]
+    via: Option<String>,
+    /// With --via zenoh: where the controller accepts Zenoh sessions, repeatable
+    /// (default: the mission's `link.zenoh.listen`, else tcp/127.0.0.1:7447,
+    /// where relays connect by default).
+    #[arg(long, value_name = "ENDPOINT")]
+    zenoh_listen: Vec<String>,
+    /// With --via zenoh: routers or relays to connect to, repeatable (default:
+    /// the mission's `link.zenoh.connect`).
+    #[arg(long, value_name = "ENDPOINT")]
+    zenoh_connect: Vec<String>,
+    /// With --via zenoh: seconds to wait for relays to announce every drone.
+    #[arg(long, value_name = "SECONDS", default_value_t = 30.0)]
+    relay_wait: f64,
     /// Where the Rerun recording goes (default: beside the flight log).
     #[command(flatten)]
     viewer: swarmctl_cli::record::ViewerArgs,
+}
+
+/// What stands behind the vehicle links for the flight, stopped after it.
+enum Backing {
+    /// The mission's own endpoints: nothing to stop.
+    Endpoints,
+    /// The bundled SITL, started here.
+    Sitl(swarmctl_sitl::Swarm),
+    /// Links through relays over Zenoh.
+    Relays(swarmctl_relay::RelayLinks),
+}
+
+impl Backing {
+    async fn shutdown(self) {
+        match self {
+            Backing::Endpoints => {}
+            Backing::Sitl(swarm) => swarm.shutdown().await,
+            Backing::Relays(links) => links.close().await,
+        }
+    }
 }
 
 fn parse_fault(s: &str) -> Result<FaultSpec, String> {
@@ -148,11 +185,12 @@ async fn fly_async(
         None => mission.link.signing.clone(),
     };
     let signing_key = source.as_ref().map(SigningKey::load).transpose()?;
-    let (vehicles, swarm) = vehicles(args, mission, plan, signing_key.as_ref()).await?;
+    let (vehicles, backing) = vehicles(args, mission, plan, signing_key.as_ref()).await?;
     let mut options = FlyOptions::new(vehicles);
+    let bundled = matches!(backing, Backing::Sitl(_));
     let ready_s = args
         .ready_timeout
-        .unwrap_or(if swarm.is_some() { 5.0 } else { 60.0 });
+        .unwrap_or(if bundled { 5.0 } else { 60.0 });
     options.ready_timeout = std::time::Duration::try_from_secs_f64(ready_s)
         .map_err(|_| anyhow::anyhow!("--ready-timeout must be a non-negative number of seconds"))?;
     options.frames = frame_source(args);
@@ -180,9 +218,7 @@ async fn fly_async(
     options.signing_key = signing_key;
     let result = fly::fly(mission, plan, &options, abort_rx).await;
     status.finish();
-    if let Some(s) = swarm {
-        s.shutdown().await;
-    }
+    backing.shutdown().await;
     Ok(result?)
 }
 
@@ -208,11 +244,33 @@ async fn vehicles(
     mission: &Mission,
     plan: &DiscretePlan,
     signing_key: Option<&SigningKey>,
-) -> anyhow::Result<(Vec<VehicleLink>, Option<swarmctl_sitl::Swarm>)> {
+) -> anyhow::Result<(Vec<VehicleLink>, Backing)> {
+    let via_zenoh = match args.via.as_deref() {
+        Some(via) => via == "zenoh",
+        None => !mission.link.relays.is_empty(),
+    };
+    if via_zenoh {
+        if !args.faults.is_empty() || args.autopilot.is_some() {
+            anyhow::bail!(
+                "--fault and --autopilot apply to the bundled SITL this process starts; through relays, give them to `swarmctl relay --sitl`"
+            );
+        }
+        let links = super::fly_relays::connect(
+            mission,
+            plan,
+            &super::fly_relays::ZenohArgs {
+                listen: &args.zenoh_listen,
+                connect: &args.zenoh_connect,
+                wait_s: args.relay_wait,
+            },
+        )
+        .await?;
+        return Ok((links.vehicle_links(), Backing::Relays(links)));
+    }
     let endpoints = mission_endpoints(mission, plan);
     if endpoints.iter().all(Option::is_none) {
         let (links, swarm) = start_bundled_sitl(args, mission, plan, signing_key).await?;
-        return Ok((links, Some(swarm)));
+        return Ok((links, Backing::Sitl(swarm)));
     }
     if !args.faults.is_empty() || args.autopilot.is_some() {
         anyhow::bail!(
@@ -231,7 +289,7 @@ async fn vehicles(
             })
         })
         .collect::<anyhow::Result<_>>()?;
-    Ok((links, None))
+    Ok((links, Backing::Endpoints))
 }
 
 /// The endpoint the mission gives each drone of `plan` (plan order), if any; a
@@ -245,9 +303,8 @@ fn mission_endpoints(mission: &Mission, plan: &DiscretePlan) -> Vec<Option<Vehic
                 .drones()
                 .find(|(_, m)| m.id == d.id)
                 .and_then(|(_, m)| {
-                    m.endpoint.clone().map(|endpoint| VehicleLink {
-                        endpoint,
-                        system_id: m.system_id.unwrap_or(i as u8 + 1),
+                    m.endpoint.clone().map(|endpoint| {
+                        VehicleLink::mavlink(endpoint, m.system_id.unwrap_or(i as u8 + 1))
                     })
                 })
         })

@@ -11,8 +11,9 @@ use swarmctl::mission::schema::{LimitsSpec, LinkSpec, SeparationSpec, WorldSpec}
 const DRONES_PER_GROUP: usize = 20;
 /// Layers of the world above the lowest one.
 const LAYERS: u32 = 3;
-/// The most vehicles the bundled SITL flies (MAVLink system ids 1–254).
-const MAX_VEHICLES: usize = 254;
+/// The most drones a load mission has: one process flies at most 254 (MAVLink
+/// system ids 1–254); through relays, 254 per relay.
+const MAX_VEHICLES: usize = 5000;
 
 /// A seeded random mission for `vehicles` drones on a square world just large
 /// enough for two free columns per drone, four layers high, no obstacles: starts
@@ -88,7 +89,7 @@ mod tests {
 
     #[test]
     fn load_missions_keep_starts_and_goals_on_distinct_columns() {
-        for (vehicles, seed) in [(1, 1), (50, 1), (200, 1), (200, 7), (254, 3)] {
+        for (vehicles, seed) in [(1, 1), (50, 1), (200, 1), (200, 7), (254, 3), (1000, 1)] {
             let file = load_mission(vehicles, seed, None).unwrap();
             let mission = swarmctl::mission::validate(&file).unwrap();
             assert_eq!(mission.drone_count(), vehicles);
@@ -109,7 +110,7 @@ mod tests {
             load_mission(40, 2, None).unwrap(),
             load_mission(40, 2, None).unwrap()
         );
-        assert!(load_mission(0, 1, None).is_err() && load_mission(255, 1, None).is_err());
+        assert!(load_mission(0, 1, None).is_err() && load_mission(5001, 1, None).is_err());
     }
 
     #[test]

@@ -53,7 +53,8 @@ pub const AT_GOAL_TOLERANCE_M: f64 = 0.3;
 /// What to fly.
 #[derive(Debug, Clone)]
 pub struct LoadOptions {
-    /// Drones, one bundled SITL vehicle each (1–254).
+    /// Drones, one bundled SITL vehicle each (1–254 in one process; through
+    /// relays, up to 5000).
     pub vehicles: usize,
     /// Seeds the mission (and the planner's tie-breaking).
     pub seed: u64,

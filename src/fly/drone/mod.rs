@@ -342,16 +342,19 @@ impl DroneRun {
         }
         // Any message proves the link: under heavy loss heartbeats alone (1 Hz) go
         // missing for seconds while telemetry (20 Hz) still gets through.
-        let lost = silent_s.is_none_or(|age| age > settings.link_timeout_s);
+        // A carrier that says the vehicle is out of reach (its relay left) is
+        // believed at once: waiting out the timeout would only fly blind longer.
+        let carrier_down = self.session.carrier_down();
+        let lost =
+            carrier_down.is_some() || silent_s.is_none_or(|age| age > settings.link_timeout_s);
         if lost && !self.link_lost {
             self.link_losses += 1;
+            let why = carrier_down
+                .unwrap_or_else(|| format!("nothing heard for {:.1} s", settings.link_timeout_s));
             events.push(LogEvent::new(
                 since_arm_s,
                 Some(&self.id),
-                &format!(
-                    "link lost: nothing heard for {:.1} s",
-                    settings.link_timeout_s
-                ),
+                &format!("link lost: {why}"),
             ));
         } else if !lost && self.link_lost {
             events.push(LogEvent::new(since_arm_s, Some(&self.id), "link back"));

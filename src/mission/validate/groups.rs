@@ -21,11 +21,13 @@ pub(super) fn check_groups(
     specs: &[GroupSpec],
     world: &VoxelGrid,
     bounds: &Bounds,
+    relay_of: &HashMap<String, String>,
     report: &mut Report,
 ) -> Vec<Group> {
     let mut checker = Checker {
         world,
         bounds,
+        relay_of,
         report,
         seen: Seen::default(),
     };
@@ -42,7 +44,8 @@ pub(super) fn check_groups(
 struct Seen<'a> {
     group_names: HashMap<&'a str, usize>,
     drone_ids: HashMap<&'a str, String>,
-    system_ids: HashMap<i64, String>,
+    /// By relay (a relay is a MAVLink network of its own; `None`: the controller's).
+    system_ids: HashMap<(Option<&'a str>, i64), String>,
     starts: HashMap<Voxel, String>,
     goals: HashMap<Voxel, String>,
 }
@@ -51,6 +54,7 @@ struct Seen<'a> {
 struct Checker<'a, 'r> {
     world: &'a VoxelGrid,
     bounds: &'a Bounds,
+    relay_of: &'a HashMap<String, String>,
     report: &'r mut Report,
     seen: Seen<'a>,
 }
@@ -173,7 +177,7 @@ impl<'a> Checker<'a, '_> {
         if let Some(Err(why)) = d.endpoint.as_deref().map(check_endpoint) {
             self.report.add(format!("{dpath}.endpoint"), why);
         }
-        let system_id = self.system_id(&dpath, d.system_id);
+        let system_id = self.system_id(&dpath, &d.id, d.system_id);
         Some(Drone {
             id: d.id.clone(),
             start,
@@ -190,7 +194,7 @@ impl<'a> Checker<'a, '_> {
     }
 
     /// The vehicle's MAVLink system id, when one is given and usable.
-    fn system_id(&mut self, dpath: &str, id: Option<i64>) -> Option<u8> {
+    fn system_id(&mut self, dpath: &str, drone: &str, id: Option<i64>) -> Option<u8> {
         let id = id?;
         let Some(vehicle_id) = u8::try_from(id).ok().filter(|_| SYSTEM_IDS.contains(&id)) else {
             self.report.add(
@@ -201,10 +205,12 @@ impl<'a> Checker<'a, '_> {
             );
             return None;
         };
-        if let Some(first) = self.seen.system_ids.insert(id, dpath.to_string()) {
+        let relay = self.relay_of.get(drone).map(String::as_str);
+        if let Some(first) = self.seen.system_ids.insert((relay, id), dpath.to_string()) {
+            let network = relay.map_or(String::new(), |r| format!(" in relay {r}'s network"));
             self.report.add(
                 format!("{dpath}.system_id"),
-                format!("system id {id} is already used by {first}"),
+                format!("system id {id} is already used by {first}{network}"),
             );
         }
         Some(vehicle_id)

@@ -12,6 +12,7 @@ mod fields;
 mod groups;
 mod pads;
 mod reachability;
+mod relays;
 mod report;
 mod settings;
 mod stacking;
@@ -33,6 +34,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     let dimensions = settings::check_world(&file.world, &mut report);
     settings::check_limits(&file.limits, file.world.voxel_size_m, &mut report);
     let signing = settings::check_link(&file.link, &mut report);
+    let relay_of = relays::check_relays(&file.link, &file.groups, &mut report);
     if file.groups.is_empty() {
         report.add("groups", "a mission needs at least one group of drones");
     }
@@ -41,7 +43,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     };
     let bounds = world::Bounds::new(dimensions);
     let world = world::build(&file.world, &bounds, &mut report);
-    let mut groups = groups::check_groups(&file.groups, &world, &bounds, &mut report);
+    let mut groups = groups::check_groups(&file.groups, &world, &bounds, &relay_of, &mut report);
     let pad_height_m = pads::pad_height(
         &file.world,
         file.limits.horizontal_separation_m(),
@@ -94,6 +96,8 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
                 .speed_headroom
                 .unwrap_or_else(|| link.autopilot.speed_overshoot()),
             signing,
+            relays: link.relays.clone(),
+            zenoh: link.zenoh.clone(),
         },
         groups,
         stages,
