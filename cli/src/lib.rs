@@ -3,5 +3,6 @@
 //! status view. The binary's commands live in `main.rs`; this library exists so
 //! benchmarks can drive the recorder exactly as `swarmctl fly` does.
 
+pub mod error_text;
 pub mod record;
 pub mod status;

@@ -52,7 +52,7 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(error) => {
-            eprintln!("error: {error:#}");
+            eprintln!("error: {}", swarmctl_cli::error_text::chain(&error));
             ExitCode::FAILURE
         }
     }

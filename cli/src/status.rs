@@ -1,6 +1,15 @@
 //! The live status view: phase counts, progress, the slowest drone and how far
 //! behind schedule it is, and the minimum separation so far. A spinner line on a
 //! terminal, a plain line every few seconds otherwise (logs, CI), or nothing.
+//!
+//! A line reads
+//! `t= 24.0s  6 flying, 2 at goal  progress  63%  slowest b3 1.2s behind (waiting for r1)  2 gated  min sep so far 0.87m`:
+//! seconds since the first arm command; how many drones are in each phase
+//! (`LINK LOST` while a drone is silent past `link.link_timeout_s`, `LOST` once
+//! given up after `link.lost_after_s`); the share of the plan's events reached
+//! (landed drones count as done); the flying drone furthest behind its schedule
+//! and whom it waits for; how many drones wait at a gate now; and the smallest
+//! distance between two drones measured since takeoff (not the distance now).
 
 //!
 //! It is a [`FlightObserver`]: the flight executor hands it the swarm's status
@@ -103,15 +112,23 @@ impl Monitor {
             *phases.entry(d.phase).or_default() += 1;
         }
         let phases: Vec<String> = phases.iter().map(|(p, n)| format!("{n} {p}")).collect();
-        let progress = drones.iter().map(|d| d.progress).sum::<f64>() / drones.len().max(1) as f64;
+        // A landed drone is done, whatever events a replan or an abort left it.
+        let progress = drones
+            .iter()
+            .map(|d| if d.phase == "landed" { 1.0 } else { d.progress })
+            .sum::<f64>()
+            / drones.len().max(1) as f64;
         let mut line = format!(
             "t={since_arm_s:5.1}s  {}  progress {:3.0}%",
             phases.join(", "),
             100.0 * progress
         );
         if let Some(t) = t_exec_s {
+            // Only drones still flying their plan can be behind it: a lost or
+            // landed drone's next event never comes, and would grow forever.
             let slowest = drones
                 .iter()
+                .filter(|d| d.phase == "flying")
                 .filter_map(|d| d.next_reach_s.map(|r| (d, t - r)))
                 .max_by(|a, b| a.1.total_cmp(&b.1));
             if let Some((d, behind_s)) = slowest.filter(|(_, b)| *b > 0.0) {
@@ -126,7 +143,7 @@ impl Monitor {
             }
         }
         if min_separation_m.is_finite() {
-            line += &format!("  min sep {min_separation_m:.2}m");
+            line += &format!("  min sep so far {min_separation_m:.2}m");
         }
         if let Some(scaled) = status.min_scaled_separation.filter(|s| s.is_finite()) {
             line += &format!(" (scaled {scaled:.2}, separated at 1)");
@@ -155,7 +172,12 @@ impl Monitor {
     fn finish(&mut self) {
         let last = self.last_line.take();
         if let Some(bar) = self.bar.take() {
-            bar.finish_with_message(last.map(|(line, _)| line).unwrap_or_default());
+            // Clear the spinner and print its last line as an ordinary, ended
+            // line: the summary that follows (on stdout) starts on a line of its own.
+            bar.finish_and_clear();
+            if let Some((line, _)) = last {
+                eprintln!("{line}");
+            }
         } else if self.plain
             && let Some((line, false)) = last
         {
@@ -167,6 +189,7 @@ impl Monitor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use swarmctl::fly::DroneStatus;
 
     fn status(min_scaled_separation: Option<f64>) -> FlightStatus {
         FlightStatus {
@@ -182,9 +205,45 @@ mod tests {
     fn an_ellipsoid_flight_shows_its_scaled_separation() {
         let line = Monitor::line(&status(Some(1.304)));
         assert!(
-            line.ends_with("min sep 0.73m (scaled 1.30, separated at 1)"),
+            line.ends_with("min sep so far 0.73m (scaled 1.30, separated at 1)"),
             "{line}"
         );
-        assert!(Monitor::line(&status(None)).ends_with("min sep 0.73m"));
+        assert!(Monitor::line(&status(None)).ends_with("min sep so far 0.73m"));
+    }
+
+    fn drone(
+        id: &str,
+        phase: &'static str,
+        progress: f64,
+        next_reach_s: Option<f64>,
+    ) -> DroneStatus {
+        DroneStatus {
+            id: id.into(),
+            phase,
+            progress,
+            next_reach_s,
+            waiting_for: None,
+        }
+    }
+
+    #[test]
+    fn lost_and_landed_drones_are_never_behind_and_landed_is_done() {
+        let mut s = status(None);
+        s.t_exec_s = Some(60.0);
+        s.drones = vec![
+            drone("b1", "LOST", 0.4, Some(10.0)),
+            drone("b2", "landed", 0.9, Some(58.0)),
+            drone("b3", "flying", 0.5, Some(57.5)),
+        ];
+        let line = Monitor::line(&s);
+        assert!(line.contains("1 LOST, 1 flying, 1 landed"), "{line}");
+        assert!(line.contains("slowest b3 2.5s behind"), "{line}");
+        assert!(line.contains("progress  63%"), "{line}");
+        s.drones = vec![drone("b2", "landed", 0.9, Some(58.0))];
+        let line = Monitor::line(&s);
+        assert!(
+            line.contains("progress 100%") && !line.contains("behind"),
+            "{line}"
+        );
     }
 }

@@ -23,6 +23,19 @@ pub fn fly_options(links: Vec<VehicleLink>) -> swarmctl::fly::FlyOptions {
     options
 }
 
+/// The autopilot the bundled SITL imitates: `choice` (`--autopilot`: `px4` or
+/// `ardupilot`) when given, else the mission's `link.autopilot`.
+pub fn flavour(choice: Option<&str>, mission: &Mission) -> Flavour {
+    match choice {
+        Some("ardupilot") => Flavour::ArduPilot,
+        Some(_) => Flavour::Px4,
+        None => match mission.link.autopilot {
+            swarmctl::mission::Autopilot::Px4 => Flavour::Px4,
+            swarmctl::mission::Autopilot::Ardupilot => Flavour::ArduPilot,
+        },
+    }
+}
+
 /// A low battery turns critical (and the autopilot lands) this long after the warning.
 const CRITICAL_AFTER_LOW: Duration = Duration::from_secs(45);
 

@@ -306,11 +306,15 @@ async fn serve(args: &Args, configs: Vec<VehicleConfig>) -> anyhow::Result<()> {
     for (i, address) in swarm.addresses().iter().enumerate() {
         let s = swarm.snapshot(i);
         println!(
-            "vehicle sysid {} ({:?}) listening on {address}: connect with udpout:{address}",
+            "vehicle sysid {} ({}) listening on {address}: connect with udpout:{address}",
             s.system_id, s.flavour
         );
     }
-    println!("{} vehicle(s) running; Ctrl-C to stop", swarm.len());
+    let n = swarm.len();
+    println!(
+        "{n} {} running; Ctrl-C to stop",
+        if n == 1 { "vehicle" } else { "vehicles" }
+    );
     tokio::signal::ctrl_c()
         .await
         .context("waiting for Ctrl-C")?;

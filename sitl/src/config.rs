@@ -13,6 +13,16 @@ pub enum Flavour {
     ArduPilot,
 }
 
+impl std::fmt::Display for Flavour {
+    /// The firmware's own name: `PX4`, `ArduPilot`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Flavour::Px4 => "PX4",
+            Flavour::ArduPilot => "ArduPilot",
+        })
+    }
+}
+
 impl std::str::FromStr for Flavour {
     type Err = String;
 

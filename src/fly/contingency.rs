@@ -6,7 +6,7 @@
 //! flying everything that does not need it. What this module adds is leaving the
 //! plan safely:
 //!
-//! - **Lost** (no message for [`LOST_AFTER_S`]): reported, left to its own
+//! - **Lost** (no message for the mission's `link.lost_after_s`): reported, left to its own
 //!   failsafe, which must be position hold (see the README). If every other drone
 //!   is at its goal or held at a gate, the flight ends: each lands when its
 //!   column is clear, and one that cannot (the lost drone was last seen below or
@@ -26,8 +26,6 @@ use super::log::LogEvent;
 use super::phase::Phase;
 pub use super::phase::{RetireStage, Retirement};
 
-/// A drone silent this long is given up for this flight (its link may still come back).
-pub const LOST_AFTER_S: f64 = 10.0;
 /// Battery at or below this share (SYS_STATUS battery_remaining) ends its plan.
 pub const LOW_BATTERY_PCT: i8 = 25;
 /// Horizontal clearance margin over the safety distance for a vertical descent.
@@ -148,17 +146,22 @@ pub fn column_blocker(drones: &[DroneRun], i: usize, clearance: Clearance) -> Op
     })
 }
 
-/// Declares drones lost after [`LOST_AFTER_S`] without a message, and brings them
-/// back if they are heard again.
-pub fn track_lost(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<LogEvent>) {
+/// Declares drones lost after `lost_after_s` (the mission's `link.lost_after_s`)
+/// without a message, and brings them back if they are heard again.
+pub fn track_lost(
+    drones: &mut [DroneRun],
+    lost_after_s: f64,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
     for d in drones.iter_mut() {
         match d.phase() {
-            Phase::Flying | Phase::AtGoal if d.silent_s() > LOST_AFTER_S => {
+            Phase::Flying | Phase::AtGoal if d.silent_s() > lost_after_s => {
                 events.push(LogEvent::new(
                     since_arm_s,
                     Some(d.id()),
                     &format!(
-                        "LOST: nothing heard for {LOST_AFTER_S:.0} s; left to its failsafe (hold), the drones that depend on it hold at their gates"
+                        "LOST: nothing heard for {lost_after_s:.0} s (link.lost_after_s); left to its failsafe (hold), the drones that depend on it hold at their gates"
                     ),
                 ));
                 d.mark_lost();

@@ -222,7 +222,7 @@ impl<'a> Flight<'a> {
     fn contingencies(&mut self, t_s: f64, now: Instant, since_arm_s: f64) {
         let clearance = self.clearance();
         let events = &mut self.out.events;
-        contingency::track_lost(self.drones, since_arm_s, events);
+        contingency::track_lost(self.drones, self.settings.lost_after_s, since_arm_s, events);
         if !self.landing_started {
             contingency::detect_retirement(self.drones, since_arm_s, events);
         }

@@ -62,7 +62,7 @@ pub enum FaultSpec {
     Slow {
         /// The drone's mission id.
         drone: String,
-        /// Flown speed over commanded speed, in (0, 10].
+        /// Flown speed over commanded speed, in (0, 1].
         factor: f64,
     },
     /// Cut this drone's link `after` takeoff, for `duration`.
@@ -176,8 +176,12 @@ pub fn parse_fault(flag: &str) -> Result<FaultSpec, FaultError> {
             let factor: f64 = factor
                 .parse()
                 .map_err(|_| bad("speed factor is not a number"))?;
-            if !(factor > 0.0 && factor <= 10.0) {
-                return Err(bad("speed factor must be in (0, 10]"));
+            // A slow drone lags its plan; one faster than commanded would
+            // overshoot every setpoint, which is not what the name promises.
+            if !(factor > 0.0 && factor <= 1.0) {
+                return Err(bad(
+                    "speed factor must be in (0, 1]: the drone flies at most this share of the commanded speed",
+                ));
             }
             non_empty(drone).ok_or_else(|| bad("missing drone id"))?;
             Ok(FaultSpec::Slow {
@@ -309,6 +313,7 @@ mod tests {
             "loss=x%",
             "slow=b1",
             "slow=b1:0",
+            "slow=b1:2",
             "drop=b1@5s",
             "latency=5",
             "wind=3",

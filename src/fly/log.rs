@@ -98,9 +98,13 @@ pub struct Summary {
     /// (before touchdown), metres; lost and handed-over drones are left out (they
     /// did not land under swarmctl: the summary lists them).
     pub max_final_distance_to_goal_m: f64,
-    /// Drones given up for lost (nothing heard for `contingency::LOST_AFTER_S`).
+    /// Drones given up for lost (nothing heard for the mission's `link.lost_after_s`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lost: Vec<String>,
+    /// Where each lost drone was last heard from, and in what state: an operator
+    /// goes looking for it there.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lost_last_known: Vec<LastKnown>,
     /// Drones that left the plan early and landed (low battery, autopilot failsafe).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub retired: Vec<String>,
@@ -110,6 +114,43 @@ pub struct Summary {
     /// Every replan tried in flight (see `fly::replan`), in order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub replans: Vec<ReplanRecord>,
+}
+
+/// A lost drone's last report.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LastKnown {
+    /// The drone's mission id.
+    pub id: String,
+    /// When its last position came, seconds since the first arm command.
+    pub t_s: Option<f64>,
+    /// Its last position, mission ENU metres.
+    pub position_m: Option<[f64; 3]>,
+    /// Armed when last heard.
+    pub armed: bool,
+    /// Its autopilot's landed state when last heard (`in air`, `on ground`, ...).
+    pub landed_state: Option<String>,
+    /// Battery remaining when last heard, percent.
+    pub battery_pct: Option<i8>,
+}
+
+impl LastKnown {
+    /// Its line in the summary.
+    pub fn line(&self) -> String {
+        let place = match (self.t_s, self.position_m) {
+            (Some(t), Some([x, y, z])) => {
+                format!("last position ({x:.2}, {y:.2}, {z:.2}) m ENU at {t:.1} s")
+            }
+            _ => "no position ever heard".to_string(),
+        };
+        let mut state = vec![if self.armed { "armed" } else { "disarmed" }.to_string()];
+        state.extend(self.landed_state.clone());
+        state.extend(self.battery_pct.map(|b| format!("battery {b} %")));
+        format!(
+            "  {:<20} {place}; {}",
+            format!("LOST {}", self.id),
+            state.join(", ")
+        )
+    }
 }
 
 impl ReplanRecord {
@@ -293,6 +334,30 @@ impl Summary {
         )
     }
 
+    /// How long plan execution took against the plan, and, when it took longer,
+    /// where the time went: drones waiting at gates for late predecessors, and
+    /// setpoints waiting for vehicles to come back within the tracking bound. Both
+    /// are summed over drones, so they bound the stretch rather than add up to it.
+    fn execution_line(&self) -> String {
+        let planned_s = self.planned_makespan_s;
+        let Some(executed_s) = self.executed_makespan_s else {
+            return format!("  plan execution       not finished (planned {planned_s:.1} s)");
+        };
+        let stretch_s = executed_s - planned_s;
+        let mut line =
+            format!("  plan execution       {executed_s:.1} s (planned {planned_s:.1} s");
+        if stretch_s >= 0.05 {
+            line += &format!(
+                "; stretched {stretch_s:.1} s by: gating waits {:.1} s and tracking holds {:.1} s, summed over drones",
+                self.gating_wait_s, self.tracking_hold_s
+            );
+            if !self.replans.is_empty() {
+                line += ", and the replans";
+            }
+        }
+        line + ")"
+    }
+
     /// The lines `swarmctl fly` prints.
     pub fn lines(&self) -> Vec<String> {
         let mut lines = vec![
@@ -304,12 +369,7 @@ impl Summary {
                 "  duration             {:.1} s (arm to landed)",
                 self.duration_s
             ),
-            format!(
-                "  plan execution       {} (planned {:.1} s)",
-                self.executed_makespan_s
-                    .map_or("not finished".to_string(), |s| format!("{s:.1} s")),
-                self.planned_makespan_s
-            ),
+            self.execution_line(),
             format!(
                 "  min separation       {} pad to pad (safety distance {:.3} m){}",
                 separation_text(self.min_separation_m),
@@ -349,7 +409,7 @@ impl Summary {
                 self.tracking_hold_s
             ),
             format!(
-                "  gating waits         {} ({:.1} s in total)",
+                "  gating waits         {} ({:.1} s summed over drones)",
                 self.gating_waits, self.gating_wait_s
             ),
             format!(
@@ -362,6 +422,7 @@ impl Summary {
             lines.insert(4, scaled);
         }
         lines.extend(self.replans.iter().map(ReplanRecord::line));
+        lines.extend(self.lost_last_known.iter().map(LastKnown::line));
         for (label, ids) in [
             ("LOST", &self.lost),
             ("retired early", &self.retired),
@@ -428,10 +489,44 @@ mod tests {
             tracking_holds: 0,
             tracking_hold_s: 0.0,
             lost: Vec::new(),
+            lost_last_known: Vec::new(),
             retired: Vec::new(),
             handed_over: Vec::new(),
             replans: Vec::new(),
         }
+    }
+
+    #[test]
+    fn a_late_plan_says_where_the_time_went_and_a_lost_drone_where_it_was() {
+        let mut s = summary(0.6);
+        s.planned_makespan_s = 40.0;
+        s.executed_makespan_s = Some(44.5);
+        s.gating_wait_s = 6.3;
+        s.tracking_hold_s = 1.5;
+        s.lost = vec!["b3".into()];
+        s.lost_last_known = vec![LastKnown {
+            id: "b3".into(),
+            t_s: Some(14.7),
+            position_m: Some([1.0, 2.5, 1.5]),
+            armed: true,
+            landed_state: Some("in the air".into()),
+            battery_pct: Some(81),
+        }];
+        let text = s.lines().join("\n");
+        assert!(
+            text.contains("plan execution       44.5 s (planned 40.0 s; stretched 4.5 s by: gating waits 6.3 s and tracking holds 1.5 s, summed over drones)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("  LOST b3              last position (1.00, 2.50, 1.50) m ENU at 14.7 s; armed, in the air, battery 81 %"),
+            "{text}"
+        );
+        s.executed_makespan_s = Some(40.0);
+        assert!(
+            s.lines()
+                .join("\n")
+                .contains("plan execution       40.0 s (planned 40.0 s)\n")
+        );
     }
 
     #[test]

@@ -107,6 +107,7 @@ pub async fn fly(
     let settings = LoopSettings {
         setpoint_rate_hz: mission.link.setpoint_rate_hz,
         link_timeout_s: mission.link.link_timeout_s,
+        lost_after_s: mission.link.lost_after_s,
         limits: commanded.kinematics(),
         tracking_error_m: l.tracking_error_m,
         settle_tolerance_m: settle_tolerance_m(options.settle_tolerance_m, l.tracking_error_m),

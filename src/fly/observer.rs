@@ -12,7 +12,7 @@ use super::log::LogEvent;
 pub struct DroneStatus {
     /// The drone's mission id.
     pub id: String,
-    /// Its phase's name (`LINK LOST` while its link is down).
+    /// Its phase's name (`LINK LOST` while its link is down, `LOST` once given up).
     pub phase: &'static str,
     /// Share of its TPG events observed reached, 0–1.
     pub progress: f64,

@@ -99,7 +99,7 @@ pub enum Phase {
     Flying,
     /// Holding at the goal until everyone is.
     AtGoal,
-    /// Nothing heard for `contingency::LOST_AFTER_S`: left to its own failsafe.
+    /// Nothing heard for the mission's `link.lost_after_s`: left to its own failsafe.
     Lost {
         /// It had reached its goal before it went silent (it rejoins as at goal).
         was_at_goal: bool,

@@ -3,10 +3,11 @@
 
 use super::drone::DroneRun;
 use super::executor::Outcome;
-use super::log::{DroneLog, Summary};
+use super::log::{DroneLog, LastKnown, Summary};
 use super::options::VehicleLink;
 use super::phase::Phase;
 use crate::mission::Limits;
+use mavlink::dialects::common::MavLandedState;
 use std::time::Instant;
 
 /// What the summary needs besides the loop's measurements.
@@ -100,6 +101,12 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
         gating_waits: logs.iter().map(|d| d.gating_waits).sum(),
         gating_wait_s: logs.iter().map(|d| d.gating_wait_s).sum(),
         lost: ids_where(drones, |d| matches!(d.phase(), Phase::Lost { .. })),
+        lost_last_known: drones
+            .iter()
+            .zip(logs)
+            .filter(|(d, _)| matches!(d.phase(), Phase::Lost { .. }))
+            .map(|(d, log)| last_known(d, log))
+            .collect(),
         retired: ids_where(drones, |d| d.retired().is_some()),
         handed_over: ids_where(drones, |d| matches!(d.phase(), Phase::HandedOver { .. })),
         replans: outcome.replans.clone(),
@@ -122,6 +129,30 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
             .filter(|(d, _)| !matches!(d.phase(), Phase::Lost { .. } | Phase::HandedOver { .. }))
             .filter_map(|(_, l)| l.final_distance_to_goal_m)
             .fold(0.0, f64::max),
+    }
+}
+
+/// Where a lost drone was last heard from (its last logged sample, in mission
+/// ENU), and what its last telemetry said.
+fn last_known(drone: &DroneRun, log: &DroneLog) -> LastKnown {
+    let state = drone.session().state();
+    let last = log.samples.last();
+    LastKnown {
+        id: log.id.clone(),
+        t_s: last.map(|s| s[0]),
+        position_m: last.map(|s| [s[1], s[2], s[3]]),
+        armed: state.armed,
+        landed_state: state.landed_state.map(|l| {
+            match l {
+                MavLandedState::MAV_LANDED_STATE_ON_GROUND => "on the ground",
+                MavLandedState::MAV_LANDED_STATE_IN_AIR => "in the air",
+                MavLandedState::MAV_LANDED_STATE_TAKEOFF => "taking off",
+                MavLandedState::MAV_LANDED_STATE_LANDING => "landing",
+                MavLandedState::MAV_LANDED_STATE_UNDEFINED => "landed state unknown",
+            }
+            .to_string()
+        }),
+        battery_pct: state.battery_remaining_pct,
     }
 }
 

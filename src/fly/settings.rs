@@ -10,6 +10,8 @@ pub struct LoopSettings {
     pub setpoint_rate_hz: f64,
     /// Nothing heard for this long counts as a lost link (the follower pauses), seconds.
     pub link_timeout_s: f64,
+    /// Nothing heard for this long: the drone is given up for the flight (LOST), seconds.
+    pub lost_after_s: f64,
     /// The mission's speed, acceleration and jerk limits, for the PX4 climb profile.
     pub limits: crate::profile::Kinematics,
     /// The tracking error the vehicles are trusted to keep, metres: a drone's

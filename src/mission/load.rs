@@ -55,6 +55,9 @@ pub fn from_yaml(text: &str, file: &Path) -> Result<Mission, MissionError> {
 
 /// Parses the YAML into the file schema without validating it.
 pub fn parse_yaml(text: &str) -> Result<MissionFile, Problem> {
+    if let Some(problem) = super::shape::problem(text) {
+        return Err(problem);
+    }
     yaml_serde::from_str(text).map_err(|e| yaml_problem(&e))
 }
 

@@ -4,6 +4,7 @@ mod error;
 mod legs;
 mod load;
 pub mod schema;
+mod shape;
 mod template;
 mod types;
 mod validate;

@@ -270,9 +270,15 @@ pub struct LinkSpec {
     /// autopilots leave offboard control when setpoints stop coming.
     #[serde(default = "default_setpoint_rate_hz")]
     pub setpoint_rate_hz: f64,
-    /// A vehicle silent for this long counts as lost, seconds (default 3).
+    /// A vehicle silent for this long has lost its link, seconds (default 3): it
+    /// is reported, and the drones that depend on it hold at their gates.
     #[serde(default = "default_link_timeout_s")]
     pub link_timeout_s: f64,
+    /// A vehicle silent for this long is given up for the flight, seconds (default
+    /// 10, at least `link_timeout_s`): reported LOST, left to its failsafe, and the
+    /// rest of the swarm replanned around where it was last seen.
+    #[serde(default = "default_lost_after_s")]
+    pub lost_after_s: f64,
     /// How far above a commanded speed the vehicles go, as a fraction (0 to 1):
     /// trajectories are flown at the speed limit divided by `1 + headroom`, so the
     /// measured speed keeps the limit. Default: the autopilot's
@@ -334,6 +340,7 @@ impl Default for LinkSpec {
             autopilot: Autopilot::default(),
             setpoint_rate_hz: default_setpoint_rate_hz(),
             link_timeout_s: default_link_timeout_s(),
+            lost_after_s: default_lost_after_s(),
             speed_headroom: None,
             signing: None,
             relays: Vec::new(),
@@ -348,6 +355,10 @@ fn default_setpoint_rate_hz() -> f64 {
 
 fn default_link_timeout_s() -> f64 {
     3.0
+}
+
+fn default_lost_after_s() -> f64 {
+    10.0
 }
 
 /// Interchangeable drones and the goals they share: the planner decides which drone

@@ -217,8 +217,12 @@ pub struct LinkSettings {
     /// Setpoints streamed to each vehicle per second, Hz (2.5 to 100): autopilots
     /// leave offboard control when setpoints stop coming.
     pub setpoint_rate_hz: f64,
-    /// A vehicle silent for this long counts as lost, seconds; positive.
+    /// A vehicle silent for this long has lost its link (its dependants hold),
+    /// seconds; positive.
     pub link_timeout_s: f64,
+    /// A vehicle silent for this long is given up for the flight (LOST, the rest
+    /// replanned around it), seconds; at least `link_timeout_s`.
+    pub lost_after_s: f64,
     /// How far above a commanded speed the vehicles go, as a fraction (0 to 1):
     /// the mission's or the autopilot's ([`Autopilot::speed_overshoot`]).
     pub speed_headroom: f64,

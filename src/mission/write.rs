@@ -139,6 +139,7 @@ fn write_limits_and_link(out: &mut String, file: &MissionFile) -> std::fmt::Resu
     writeln!(out, "  autopilot: {}", link.autopilot)?;
     writeln!(out, "  setpoint_rate_hz: {:?}", link.setpoint_rate_hz)?;
     writeln!(out, "  link_timeout_s: {:?}", link.link_timeout_s)?;
+    writeln!(out, "  lost_after_s: {:?}", link.lost_after_s)?;
     if let Some(h) = link.speed_headroom {
         writeln!(out, "  speed_headroom: {h:?}")?;
     }

@@ -90,7 +90,7 @@ pub enum PlanViolation {
         found: Voxel,
     },
     /// A path through an obstacle or out of the world.
-    #[error("drone {id:?}: step {step} at {voxel} is outside the world or inside an obstacle")]
+    #[error("drone {id:?}: step {step} at {voxel} is {}", if *.in_obstacle { "inside an obstacle" } else { "outside the airspace (the world's voxels and the pad layer's cells)" })]
     NotFree {
         /// The drone.
         id: String,
@@ -98,6 +98,8 @@ pub enum PlanViolation {
         step: usize,
         /// Where the path is then.
         voxel: Voxel,
+        /// In an obstacle of the airspace (else outside the airspace altogether).
+        in_obstacle: bool,
     },
     /// A move between voxels that are not face neighbours.
     #[error("drone {id:?}: jumps from {from} to {to} at step {step}")]
@@ -475,6 +477,7 @@ fn path(
                 id: id.clone(),
                 step,
                 voxel,
+                in_obstacle: mission.airspace.contains(voxel),
             });
         }
     }

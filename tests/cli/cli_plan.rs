@@ -236,7 +236,10 @@ fn fly_refuses_a_broken_plan_before_starting_anything() {
         assert!(!out.status.success(), "{stderr}");
         assert!(stderr.contains(&plan.display().to_string()), "{stderr}");
         assert!(stderr.contains(expected), "{stderr}");
-        assert!(!stderr.contains("started the bundled SITL"), "{stderr}");
+        assert!(
+            !stderr.contains("started the bundled simulator"),
+            "{stderr}"
+        );
         assert!(!log.exists(), "a flight log was written");
     }
 }

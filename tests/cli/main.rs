@@ -8,5 +8,7 @@ mod support;
 
 mod cli_check;
 mod cli_plan;
+mod operator;
+mod readme;
 mod relays;
 mod viz_recordings;

@@ -190,6 +190,39 @@ async fn watch_truth(port: u16) -> (swarmctl_relay::zenoh::Session, TruthWatch) 
     (session, watch)
 }
 
+/// A controller, a test's truth watch, and relays north and south, started in
+/// that order on a fresh port; everything in `dir`.
+struct Topology {
+    dir: tempfile::TempDir,
+    log: PathBuf,
+    fly: Process,
+    _session: swarmctl_relay::zenoh::Session,
+    truth: TruthWatch,
+    north: Process,
+    south: Process,
+}
+
+impl Topology {
+    async fn start() -> Topology {
+        let dir = tempfile::tempdir().unwrap();
+        let port = free_port();
+        let log = dir.path().join("flight.json");
+        let fly = controller(port, &log);
+        let (_session, truth) = watch_truth(port).await;
+        let north = relay("north", NORTH, port, &dir.path().join("north.json"));
+        let south = relay("south", SOUTH, port, &dir.path().join("south.json"));
+        Topology {
+            dir,
+            log,
+            fly,
+            _session,
+            truth,
+            north,
+            south,
+        }
+    }
+}
+
 fn read_log(path: &Path) -> FlightLog {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -199,13 +232,15 @@ fn read_log(path: &Path) -> FlightLog {
 /// 1 m/s speed limit in the simulators' truth, and the log names each drone's relay.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_formation_change_flies_through_two_relays() {
-    let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let log = dir.path().join("flight.json");
-    let mut fly = controller(port, &log);
-    let (_session, truth) = watch_truth(port).await;
-    let mut north = relay("north", NORTH, port, &dir.path().join("north.json"));
-    let mut south = relay("south", SOUTH, port, &dir.path().join("south.json"));
+    let Topology {
+        dir,
+        log,
+        mut fly,
+        _session,
+        truth,
+        mut north,
+        mut south,
+    } = Topology::start().await;
     let status = tokio::task::block_in_place(|| fly.wait(FLIGHT_LIMIT));
     let truth = truth.report();
     assert!(north.terminate().success() && south.terminate().success());
@@ -248,13 +283,15 @@ async fn the_formation_change_flies_through_two_relays() {
 /// safety distance.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_relay_killed_mid_flight_is_a_link_loss_of_its_drones() {
-    let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let log = dir.path().join("flight.json");
-    let mut fly = controller(port, &log);
-    let (_session, truth) = watch_truth(port).await;
-    let mut north = relay("north", NORTH, port, &dir.path().join("north.json"));
-    let mut south = relay("south", SOUTH, port, &dir.path().join("south.json"));
+    let Topology {
+        dir: _dir,
+        log,
+        mut fly,
+        _session,
+        truth,
+        mut north,
+        mut south,
+    } = Topology::start().await;
     // The plan clock starts once every drone hovers over its pad; the first
     // status line comes a few seconds into plan execution.
     tokio::task::block_in_place(|| {
@@ -291,4 +328,48 @@ async fn a_relay_killed_mid_flight_is_a_link_loss_of_its_drones() {
     // The flight ends on its own (completed or not is the replanner's to say);
     // what matters is that it ended and said what happened.
     assert!(status.code().is_some(), "{status}");
+}
+
+/// Nobody serves the drones: `fly` says so before arming anything, naming the
+/// drones, and exits 1; a relay that does not know its drones says how to tell it.
+#[test]
+fn missing_relays_and_unknown_shares_are_refused_with_the_fix() {
+    let port = free_port();
+    let out = Command::new(binary())
+        .args([
+            "fly",
+            mission().to_str().unwrap(),
+            "--via",
+            "zenoh",
+            "--relay-wait",
+            "1",
+        ])
+        .args(["--zenoh-listen", &format!("tcp/127.0.0.1:{port}")])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("no relay serves 8 of the 8 drones after 1 s: b1, b2")
+            && stderr.contains("no relay seen at all"),
+        "{stderr}"
+    );
+    let out = Command::new(binary())
+        .args([
+            "relay",
+            mission().to_str().unwrap(),
+            "--name",
+            "north",
+            "--sitl",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(
+            "no link.relays section, so relay north does not know its drones: give --drones"
+        ),
+        "{stderr}"
+    );
 }

@@ -256,6 +256,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         tracking_holds: 0,
         tracking_hold_s: 0.0,
         lost: Vec::new(),
+        lost_last_known: Vec::new(),
         retired: Vec::new(),
         handed_over: Vec::new(),
         replans: Vec::new(),
@@ -335,11 +336,78 @@ fn replay_without_mission_writes_a_recording_beside_the_log() {
         serde_json::to_string(&synthetic_flight(&plan)).expect("json"),
     )
     .expect("write log");
-    swarmctl().arg("replay").arg(&log).assert().success();
-    let rrd = dir.path().join("flight.rrd");
+    // The live recording `fly` leaves beside its log is never replaced.
+    let live = dir.path().join("flight.rrd");
+    std::fs::write(&live, b"the live recording").expect("write live recording");
+    let out = swarmctl()
+        .arg("replay")
+        .arg(&log)
+        .output()
+        .expect("run replay");
+    assert!(out.status.success(), "{out:?}");
+    let rrd = dir.path().join("flight.replay.rrd");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(&rrd.display().to_string()), "{stdout}");
+    assert_eq!(std::fs::read(&live).expect("live"), b"the live recording");
     verify(&rrd);
     assert_has(&entity_paths(&rrd), &flight_paths());
     assert_labelled(&rrd, "/world/flight/drones", &plan);
+    // A second replay replaces the first, and says so.
+    let out = swarmctl()
+        .arg("replay")
+        .arg(&log)
+        .output()
+        .expect("run replay");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("(replaced the file that was there)"),
+        "{stdout}"
+    );
+}
+
+/// A log, a mission and a plan that do not belong together are refused, naming
+/// what differs, as `fly --plan` refuses a plan of another mission.
+#[test]
+fn replay_refuses_a_mission_or_plan_the_log_was_not_flown_from() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (_, plan) = plan(dir.path());
+    let log = dir.path().join("flight.json");
+    std::fs::write(
+        &log,
+        serde_json::to_string(&synthetic_flight(&plan)).expect("json"),
+    )
+    .expect("write log");
+    let out = swarmctl()
+        .arg("replay")
+        .arg(&log)
+        .args(["--mission", "missions/formation-change.yaml"])
+        .output()
+        .expect("run replay");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("was not flown from missions/formation-change.yaml")
+            && stderr.contains("the log is of mission"),
+        "{stderr}"
+    );
+    // The right mission with another mission's plan.
+    let other = dir.path().join("other");
+    std::fs::create_dir(&other).expect("dir");
+    plan_mission(&other, "missions/formation-change.yaml");
+    let out = swarmctl()
+        .arg("replay")
+        .arg(&log)
+        .args(["--mission", MISSION, "--plan"])
+        .arg(other.join("plan.json"))
+        .output()
+        .expect("run replay");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("is not a valid plan for mission"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("flight.replay.rrd").exists());
 }
 
 /// A replayed ellipsoid flight draws the flown drones' ellipsoids and plots their
@@ -367,7 +435,7 @@ fn replay_of_an_ellipsoid_flight_draws_ellipsoids_and_the_scaled_separation() {
         .assert()
         .success();
     swarmctl().arg("replay").arg(&log).assert().success();
-    let without_mission = dir.path().join("flight.rrd");
+    let without_mission = dir.path().join("flight.replay.rrd");
     let half = [0.125, 0.125, 0.375];
     for rrd in [&with_mission, &without_mission] {
         verify(rrd);

@@ -681,3 +681,57 @@ fn geo_origin_out_of_range_is_refused() {
     assert_eq!(found.len(), 1, "{found:?}");
     assert_eq!(found[0].0, "world.geo_origin.lat_deg");
 }
+
+/// `link.relays` and `link.zenoh`: every drone served by exactly one relay that
+/// exists, endpoints Zenoh can use, and system ids unique within each relay's
+/// own MAVLink network (not across relays).
+#[test]
+fn relays_serve_each_drone_once_and_scope_system_ids() {
+    let with_link = |link: &str| {
+        BASE.replace(
+            "link: { autopilot: px4, setpoint_rate_hz: 20 }",
+            &format!("link: {{ autopilot: px4, setpoint_rate_hz: 20, {link} }}"),
+        )
+    };
+    let good = with_link(
+        "relays: [{ name: north, drones: [b1] }, { name: south, drones: [b2, r1] }], zenoh: { listen: [tcp/127.0.0.1:7447] }",
+    );
+    let m = mission::from_yaml(&good, "case.yaml".as_ref()).expect("valid");
+    assert_eq!(m.link.relays.len(), 2);
+    assert_eq!(m.link.relays[1].drones, ["b2", "r1"]);
+
+    let found = problems_of(&with_link(
+        "relays: [{ name: north, drones: [b1, b2, x9] }, { name: north, drones: [b2] }], zenoh: { connect: [udp/1.2.3.4] }",
+    ));
+    let has = |path: &str, text: &str| found.iter().any(|(p, m, _)| p == path && m.contains(text));
+    assert!(has("link.zenoh.connect[0]", "tcp/HOST:PORT"), "{found:#?}");
+    assert!(
+        has("link.relays[0].drones[2]", "no drone \"x9\""),
+        "{found:#?}"
+    );
+    assert!(
+        has("link.relays[1].name", "already link.relays[0]"),
+        "{found:#?}"
+    );
+    assert!(
+        has("link.relays[1].drones[0]", "already served by relay north"),
+        "{found:#?}"
+    );
+    assert!(has("link.relays", "no relay serves r1"), "{found:#?}");
+
+    // b1 and b2 both system 1: one network refuses it, two relays do not.
+    let same_id = good.replace("system_id: 2", "system_id: 1");
+    assert!(mission::from_yaml(&same_id, "case.yaml".as_ref()).is_ok());
+    let one_relay = same_id.replace(
+        "relays: [{ name: north, drones: [b1] }, { name: south, drones: [b2, r1] }]",
+        "relays: [{ name: north, drones: [b1, b2, r1] }]",
+    );
+    let found = problems_of(&one_relay);
+    assert!(
+        found
+            .iter()
+            .any(|(p, m, _)| p == "groups[0].drones[1].system_id"
+                && m.contains("in relay north's network")),
+        "{found:#?}"
+    );
+}

@@ -26,17 +26,23 @@ fn mission(
         .collect();
     let obstacles: Vec<String> = obstacles.iter().map(|o| format!("{o:?}")).collect();
     // Setpoints exactly: these cases are about the markers' geometry for `d`.
-    // Layer 0 above a pad layer hovering at 1 m, far enough for the safety distance
-    // (cases whose safety distance exceeds the voxel are the schedule's to refuse).
+    // Layer 0 above a pad layer hovering at 1 m, far enough for the safety distance.
+    // A mission file refuses a safety distance without 1 cm each side for tracking
+    // within the voxel; the schedule, which also serves missions built in code,
+    // must handle (or refuse) the rest itself, so such cases are set afterwards.
     let origin_z = voxel_m.max(safety_m) + 1.0;
+    let written_m = safety_m.min(voxel_m - 0.02);
     let yaml = format!(
         "name: case\nworld: {{ dimensions: {dims:?}, voxel_size_m: {voxel_m}, origin_m: [0.0, 0.0, {origin_z}], pad_height_m: 1.0, obstacles: [{}] }}\n\
-         limits: {{ max_speed_mps: 1.0, max_accel_mps2: 2.0, safety_distance_m: {safety_m}, tracking_error_m: 0.0 }}\n\
+         limits: {{ max_speed_mps: 1.0, max_accel_mps2: 2.0, safety_distance_m: {written_m}, tracking_error_m: 0.0 }}\n\
          groups:\n{}",
         obstacles.join(", "),
         groups.concat()
     );
-    from_yaml(&yaml, std::path::Path::new("case.yaml")).expect("valid test mission")
+    let mut mission =
+        from_yaml(&yaml, std::path::Path::new("case.yaml")).expect("valid test mission");
+    mission.limits.safety_distance_m = safety_m;
+    mission
 }
 
 fn plan(paths: &[(&str, &[[i32; 3]])]) -> DiscretePlan {

@@ -16,7 +16,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             Ok(m) => print_summary(path, &m),
             Err(e) => {
                 all_valid = false;
-                eprintln!("{e}");
+                eprintln!(
+                    "{}",
+                    swarmctl_cli::error_text::chain(&anyhow::Error::new(e))
+                );
             }
         }
     }
@@ -47,6 +50,19 @@ fn print_summary(path: &std::path::Path, m: &mission::Mission) {
         .collect();
     println!("  groups     {}: {}", m.groups.len(), sizes.join(", "));
     println!("  drones     {}", m.drone_count());
+    if !m.link.relays.is_empty() {
+        let relays: Vec<String> = m
+            .link
+            .relays
+            .iter()
+            .map(|r| format!("{} ({} drones)", r.name, r.drones.len()))
+            .collect();
+        println!(
+            "  relays     {} over Zenoh: {}",
+            relays.len(),
+            relays.join(", ")
+        );
+    }
     println!("  separation {}", separation_text(m));
     println!("  formation  ≥ {lower_bound} from the starts (lower bound, collisions ignored)");
     super::pads::print_pads_and_legs(m);

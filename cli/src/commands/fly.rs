@@ -8,7 +8,7 @@ use std::sync::Arc;
 use swarmctl::fly::{self, FaultSpec, FlyOptions, VehicleLink};
 use swarmctl::import;
 use swarmctl::link::SigningKey;
-use swarmctl::mission::{Autopilot, KeySource, Mission};
+use swarmctl::mission::{KeySource, Mission};
 use swarmctl::plan::{self, DiscretePlan};
 use swarmctl_cli::record::{LiveFlight, RecorderOptions, Sink};
 use swarmctl_cli::status::{StatusMode, StatusView};
@@ -45,7 +45,7 @@ pub struct Args {
     /// low-battery=DRONE_ID@10s, critical-battery=DRONE_ID@10s (after arming).
     #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
     faults: Vec<FaultSpec>,
-    /// Flight log (JSON); default flights/<mission>-<unix time>.json.
+    /// Flight log (JSON); default flights/<mission file name>-<unix time>.json.
     // The comment above is `--help` text, shown as written: the placeholders
     // are not HTML.
     #[allow(rustdoc::invalid_html_tags)]
@@ -119,9 +119,41 @@ fn parse_fault(s: &str) -> Result<FaultSpec, String> {
     fly::parse_fault(s).map_err(|e| e.reason)
 }
 
+/// Refuses flags no flight can use, before anything is planned, started or
+/// recorded.
+fn check_args(args: &Args) -> anyhow::Result<()> {
+    let seconds = |value: f64| value.is_finite() && value >= 0.0;
+    if let Some(ready_s) = args.ready_timeout.filter(|&s| !seconds(s)) {
+        anyhow::bail!("--ready-timeout must be a non-negative number of seconds, got {ready_s}");
+    }
+    if !(args.pad_tolerance.is_finite() && args.pad_tolerance > 0.0) {
+        anyhow::bail!(
+            "--pad-tolerance must be a positive number of metres, got {}",
+            args.pad_tolerance
+        );
+    }
+    if !seconds(args.replan_deadline) {
+        anyhow::bail!(
+            "--replan-deadline must be a non-negative number of seconds, got {}",
+            args.replan_deadline
+        );
+    }
+    if !(args.relay_wait.is_finite() && args.relay_wait > 0.0) {
+        anyhow::bail!(
+            "--relay-wait must be a positive number of seconds, got {}",
+            args.relay_wait
+        );
+    }
+    Ok(())
+}
+
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    check_args(&args)?;
     // The same inputs `swarmctl plan` accepts: mission YAML or an imported instance.
     let mission = import::load_any(&args.mission, None)?;
+    if let Some(usage) = super::refuse_unknown_fault_drones(&args.faults, &mission) {
+        return Ok(usage);
+    }
     let plan = match &args.plan {
         Some(path) => load_plan(path, &mission)?,
         None => plan_now(&mission, args.deadline)?,
@@ -129,12 +161,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let path = args
         .log
         .clone()
-        .unwrap_or_else(|| default_log_path(&mission));
+        .unwrap_or_else(|| default_log_path(&args.mission));
     // Recorded live; flying never depends on it (a recorder that fails only warns).
     let recording = start_recording(&args, &mission, &plan, &path);
     let observer = recording.as_ref().map(|(r, _)| r.observer());
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
-    let log = runtime.block_on(fly_async(&args, &mission, &plan, observer))?;
+    let log = match runtime.block_on(fly_async(&args, &mission, &plan, observer)) {
+        Ok(log) => log,
+        Err(refused) => {
+            if let Some(recording) = recording {
+                discard_recording(recording);
+            }
+            return Err(refused);
+        }
+    };
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
@@ -319,14 +359,7 @@ async fn start_bundled_sitl(
     plan: &DiscretePlan,
     signing_key: Option<&SigningKey>,
 ) -> anyhow::Result<(Vec<VehicleLink>, swarmctl_sitl::Swarm)> {
-    let flavour = match args.autopilot.as_deref() {
-        Some("ardupilot") => swarmctl_sitl::Flavour::ArduPilot,
-        Some(_) => swarmctl_sitl::Flavour::Px4,
-        None => match mission.link.autopilot {
-            Autopilot::Px4 => swarmctl_sitl::Flavour::Px4,
-            Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
-        },
-    };
+    let flavour = swarmctl_harness::bundled_sitl::flavour(args.autopilot.as_deref(), mission);
     let mut configs = swarmctl_harness::bundled_sitl::vehicle_configs_in(
         mission,
         plan,
@@ -340,8 +373,13 @@ async fn start_bundled_sitl(
     let (swarm, links) =
         swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
     eprintln!(
-        "started the bundled SITL: {} {flavour:?} vehicles on 127.0.0.1",
-        links.len()
+        "started the bundled simulator: {} mock {flavour} {} on 127.0.0.1",
+        links.len(),
+        if links.len() == 1 {
+            "vehicle"
+        } else {
+            "vehicles"
+        }
     );
     Ok((links, swarm))
 }
@@ -380,12 +418,18 @@ fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> 
         .plan)
 }
 
-fn default_log_path(mission: &Mission) -> PathBuf {
+/// `flights/<mission file name>-<unix time>.json`: named after the file the user
+/// typed (`missions/formation-change.yaml` → `flights/formation-change-….json`),
+/// with anything but letters, digits, `-` and `_` replaced.
+fn default_log_path(mission_file: &Path) -> PathBuf {
     let unix_s = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
-    let name: String = mission
-        .name
+    let stem = mission_file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mission".into());
+    let name: String = stem
         .chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
@@ -413,6 +457,22 @@ fn start_recording(
             eprintln!("warning: flying without a Rerun recording: {e:#}");
             None
         }
+    }
+}
+
+/// Removes the recording of a flight that never flew (refused before arming, or
+/// failed): a recording with no flight log beside it only misleads. A viewer
+/// the recording streamed to keeps what it was sent.
+fn discard_recording((recording, sink): (LiveFlight, Sink)) {
+    drop(recording);
+    if let Sink::File(path) = sink
+        && let Err(e) = std::fs::remove_file(&path)
+        && e.kind() != std::io::ErrorKind::NotFound
+    {
+        eprintln!(
+            "warning: cannot remove the recording of the refused flight, {}: {e}",
+            path.display()
+        );
     }
 }
 

@@ -13,3 +13,25 @@ pub mod relay;
 pub mod replay;
 pub mod sitl;
 pub mod template;
+
+/// A `--fault` naming a drone the mission does not have is a usage error, like a
+/// malformed one (exit code 2): says which, with the drones there are.
+pub fn refuse_unknown_fault_drones(
+    faults: &[swarmctl::fly::FaultSpec],
+    mission: &swarmctl::mission::Mission,
+) -> Option<std::process::ExitCode> {
+    let known: Vec<&str> = mission.drones().map(|(_, d)| d.id.as_str()).collect();
+    let unknown = faults
+        .iter()
+        .filter_map(|f| f.drone())
+        .find(|d| !known.contains(d))?;
+    let shown = if known.len() > 12 {
+        format!("{}, … ({} in all)", known[..12].join(", "), known.len())
+    } else {
+        known.join(", ")
+    };
+    eprintln!(
+        "error: --fault names drone {unknown:?}, which is not in the mission (drones: {shown})"
+    );
+    Some(std::process::ExitCode::from(2))
+}

@@ -91,6 +91,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let json = serde_json::to_string(&compiled)?;
         std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
         println!("  wrote           {}", path.display());
+    } else {
+        println!(
+            "  plan file       none written: give -o PLAN.json to keep the plan, then `swarmctl fly {} --plan PLAN.json` flies it without planning again",
+            input.display()
+        );
     }
     if let Some(sink) = args.viewer.sink() {
         swarmctl_cli::record::record_plan(&mission, &compiled, &sink)
@@ -111,19 +116,23 @@ fn solve_with_spinner(
         spinner.set_style(style);
     }
     spinner.set_message(format!("planning {} drones", mission.drone_count()));
+    // A step is one voxel at top speed: the bound in seconds, for a sense of scale.
+    let step_s = mission.world.voxel_size_m() / mission.limits.max_speed_mps;
     spinner.enable_steady_tick(Duration::from_millis(120));
     let result = plan::solve_with_progress(mission, options, &mut |p| {
         let work = match p.phase {
             plan::PlanPhase::ConflictTree => format!(
-                "conflict tree, {} nodes, {} open",
-                p.ct_nodes_expanded, p.open_nodes
+                "conflict tree, {}, {} open",
+                count(p.ct_nodes_expanded, "node"),
+                p.open_nodes
             ),
             other => other.to_string(),
         };
         spinner.set_message(format!(
-            "planning leg {}: {work}, makespan ≥ {} steps, {:.1} s",
+            "planning leg {}: {work}, makespan ≥ {} (≥ {:.1} s at top speed), {:.1} s so far",
             p.leg,
-            p.best_lower_bound_steps,
+            count(u64::from(p.best_lower_bound_steps), "step"),
+            f64::from(p.best_lower_bound_steps) * step_s,
             p.elapsed.as_secs_f64()
         ));
     });
@@ -158,11 +167,11 @@ fn print_solution(
     );
     for leg in &s.legs {
         println!(
-            "  leg {:<11} {} steps (lower bound {}), {} nodes, {:.3} s",
+            "  leg {:<11} {} (lower bound {}), {}, {:.3} s",
             leg.name,
-            leg.makespan_steps,
+            count(u64::from(leg.makespan_steps), "step"),
             leg.lower_bound_steps,
-            leg.ct_nodes_expanded,
+            count(leg.ct_nodes_expanded, "node"),
             leg.time.as_secs_f64()
         );
     }
@@ -199,4 +208,13 @@ pub(super) fn reach_hint(mission: &swarmctl::mission::Mission) -> String {
         " (under the separation ellipsoid no two drones may be in cells of one column closer than {:.2} m — vertical separation plus twice the tracking error — which can make a crowded leg much harder; cells further apart, e.g. a pad layer at least that far below layer 0 (world.origin_m z, world.pad_height_m), or a smaller vertical separation or tracking error, lift it)",
         reach.reach_m
     )
+}
+
+/// `1 node`, `2 nodes`.
+pub fn count(n: u64, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
 }

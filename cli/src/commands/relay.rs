@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use swarmctl::fly::FaultSpec;
 use swarmctl::link::SigningKey;
-use swarmctl::mission::{Autopilot, Mission};
+use swarmctl::mission::Mission;
 use swarmctl_relay::truth::{self, TruthRecord};
 use swarmctl_relay::{Relay, RelaySpec, RelayedDrone, ZenohEndpoints};
 
@@ -59,6 +59,9 @@ fn parse_fault(s: &str) -> Result<FaultSpec, String> {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mission = swarmctl::mission::load(&args.mission)?;
+    if let Some(usage) = super::refuse_unknown_fault_drones(&args.faults, &mission) {
+        return Ok(usage);
+    }
     let drones = served_drones(&args, &mission)?;
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
     runtime.block_on(serve(&args, &mission, drones))?;
@@ -204,14 +207,7 @@ async fn start_sitl(
     ids: &[String],
     signing: Option<&SigningKey>,
 ) -> anyhow::Result<(Vec<RelayedDrone>, std::sync::Arc<swarmctl_sitl::Swarm>)> {
-    let flavour = match args.autopilot.as_deref() {
-        Some("ardupilot") => swarmctl_sitl::Flavour::ArduPilot,
-        Some(_) => swarmctl_sitl::Flavour::Px4,
-        None => match mission.link.autopilot {
-            Autopilot::Px4 => swarmctl_sitl::Flavour::Px4,
-            Autopilot::Ardupilot => swarmctl_sitl::Flavour::ArduPilot,
-        },
-    };
+    let flavour = swarmctl_harness::bundled_sitl::flavour(args.autopilot.as_deref(), mission);
     let mut configs =
         swarmctl_harness::bundled_sitl::relay_vehicle_configs(mission, ids, flavour, &args.faults)?;
     for c in &mut configs {

@@ -3,13 +3,11 @@
 
 use std::process::ExitCode;
 
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    #[command(flatten)]
-    sitl: swarmctl_sitl::cli::Args,
-}
+/// The `swarmctl-sitl` binary's flags, taken as they are (a wrapper struct
+/// flattening them would give clap two argument groups named `Args`).
+pub type Args = swarmctl_sitl::cli::Args;
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    swarmctl_sitl::cli::run(args.sitl)?;
+    swarmctl_sitl::cli::run(args)?;
     Ok(ExitCode::SUCCESS)
 }

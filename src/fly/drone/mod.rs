@@ -444,7 +444,8 @@ impl DroneRun {
         let events = self.route.events.len().max(1);
         DroneStatus {
             id: self.id.clone(),
-            phase: if self.link_lost {
+            // Once given up for the flight, LOST says more than its link's state.
+            phase: if self.link_lost && !matches!(self.phase, Phase::Lost { .. }) {
                 "LINK LOST"
             } else {
                 self.phase.name()

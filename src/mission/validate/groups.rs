@@ -31,11 +31,39 @@ pub(super) fn check_groups(
         report,
         seen: Seen::default(),
     };
-    specs
+    let groups = specs
         .iter()
         .enumerate()
         .map(|(gi, g)| checker.group(gi, g))
-        .collect()
+        .collect();
+    check_endpoints_all_or_none(specs, report);
+    groups
+}
+
+/// A mission flies its own vehicles (every drone names its endpoint) or the
+/// bundled simulator (none does); a mix cannot be flown, so `check` says so, as
+/// `fly` would, naming each drone without one.
+fn check_endpoints_all_or_none(specs: &[GroupSpec], report: &mut Report) {
+    let drones = || {
+        specs
+            .iter()
+            .enumerate()
+            .flat_map(|(gi, g)| g.drones.iter().enumerate().map(move |(di, d)| (gi, di, d)))
+    };
+    let total = drones().count();
+    let with = drones().filter(|(_, _, d)| d.endpoint.is_some()).count();
+    if with == 0 || with == total {
+        return;
+    }
+    for (gi, di, d) in drones().filter(|(_, _, d)| d.endpoint.is_none()) {
+        report.add(
+            format!("groups[{gi}].drones[{di}].endpoint"),
+            format!(
+                "drone {:?} has no endpoint but {with} of the {total} drones have one: give all drones one, or none (to fly the bundled simulator)",
+                d.id
+            ),
+        );
+    }
 }
 
 /// What earlier groups and drones already use, each with the path of its first user

@@ -92,6 +92,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             autopilot: link.autopilot,
             setpoint_rate_hz: link.setpoint_rate_hz,
             link_timeout_s: link.link_timeout_s,
+            lost_after_s: link.lost_after_s,
             speed_headroom: link
                 .speed_headroom
                 .unwrap_or_else(|| link.autopilot.speed_overshoot()),

@@ -75,7 +75,11 @@ pub(super) fn tracking_error(
     // Leave a centimetre of the spacing unused: setpoints of drones in neighbouring
     // cells then never sit exactly at the separation, which a sampled check (and
     // a real controller) cannot tell from just below it.
-    let room_m = (0.5 * (spacing_m - d) - TRACKING_MARGIN_M).max(0.0);
+    let unclamped_room_m = 0.5 * (spacing_m - d) - TRACKING_MARGIN_M;
+    if d.is_finite() && d > 0.0 && spacing_m > 0.0 && unclamped_room_m < -1e-9 {
+        report_separation_too_wide(limits, d, spacing_m, voxel_size_m, pad_gap_m, report);
+    }
+    let room_m = unclamped_room_m.max(0.0);
     let Some(e) = limits.tracking_error_m else {
         let vertical_room_m = limits
             .separation
@@ -104,6 +108,38 @@ pub(super) fn tracking_error(
         );
     }
     e
+}
+
+/// The safety distance (or an ellipsoid's horizontal radius) `d` leaves less than
+/// [`TRACKING_MARGIN_M`] on each side within the spacing of cell centres: the
+/// scheduler would refuse it (`d` above the voxel size) or its own check would
+/// find trajectories a hair closer than `d` (`d` at the voxel size), so the
+/// mission is refused here, with the largest value that fits.
+fn report_separation_too_wide(
+    limits: &LimitsSpec,
+    d: f64,
+    spacing_m: f64,
+    voxel_size_m: f64,
+    pad_gap_m: f64,
+    report: &mut Report,
+) {
+    let field = match limits.separation {
+        Some(_) => "limits.separation.horizontal_m",
+        None => "limits.safety_distance_m",
+    };
+    let what = if spacing_m < voxel_size_m {
+        format!("the pad layer's gap below layer 0 ({pad_gap_m:.3} m)")
+    } else {
+        format!("the voxel size ({voxel_size_m:.3} m)")
+    };
+    let most_m = spacing_m - 2.0 * TRACKING_MARGIN_M;
+    report.add(
+        field,
+        format!(
+            "{d:.3} m does not fit: neighbouring drones' setpoints are only {what} apart, and at least {TRACKING_MARGIN_M} m on each side is kept for tracking; at most {most_m:.3} m fits (use larger voxels{}, or a smaller separation)",
+            if spacing_m < voxel_size_m { " or a higher layer 0" } else { "" }
+        ),
+    );
 }
 
 /// Every edge from 1 to [`MAX_DIMENSION`] voxels, and at most [`MAX_VOXELS`] in all.
@@ -202,6 +238,16 @@ pub(super) fn check_link(link: &LinkSpec, report: &mut Report) -> Option<KeySour
         );
     }
     check_positive(report, "link.link_timeout_s", link.link_timeout_s, "s");
+    check_positive(report, "link.lost_after_s", link.lost_after_s, "s");
+    if link.lost_after_s.is_finite() && link.lost_after_s < link.link_timeout_s {
+        report.add(
+            "link.lost_after_s",
+            format!(
+                "{} s is shorter than link.link_timeout_s ({} s): a silent drone first loses its link (its dependants hold) after link_timeout_s, and is given up (LOST, the swarm replanned around it) after lost_after_s; raise lost_after_s to at least {} s",
+                link.lost_after_s, link.link_timeout_s, link.link_timeout_s
+            ),
+        );
+    }
     if let Some(h) = link.speed_headroom
         && !(h.is_finite() && (0.0..=1.0).contains(&h))
     {
