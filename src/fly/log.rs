@@ -337,7 +337,8 @@ impl Summary {
     /// How long plan execution took against the plan, and, when it took longer,
     /// where the time went: drones waiting at gates for late predecessors, and
     /// setpoints waiting for vehicles to come back within the tracking bound. Both
-    /// are summed over drones, so they bound the stretch rather than add up to it.
+    /// are summed over drones: several drones waiting at once stretch the plan
+    /// only once, so they show where the time went without adding up to it.
     fn execution_line(&self) -> String {
         let planned_s = self.planned_makespan_s;
         let Some(executed_s) = self.executed_makespan_s else {

@@ -1,5 +1,6 @@
-//! The `swarmctl` command line end to end: `check`, `plan`, `gen`, `replay` and
-//! the Rerun recordings, and flights through relays, run as a user runs them.
+//! The `swarmctl` command line end to end, run as a user runs it: `check`,
+//! `plan`, `gen`, `replay` and the Rerun recordings, flights through relays, the
+//! messages and exit codes an operator meets, and every shell block of the README.
 // Tests may unwrap, expect and run long: a failure is a failed test.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::too_many_lines)]
 

@@ -327,3 +327,25 @@ fn lost_comes_after_lost_after_s_and_the_summary_says_where_it_was() {
     assert!(!after.is_empty(), "no status line says LOST:\n{err}");
     assert!(after.iter().all(|l| !l.contains("LINK LOST")), "{err}");
 }
+
+/// Item 1, the key `fly` would load: a signing key file that is missing is
+/// `check`'s to report, as `fly` would.
+#[test]
+fn check_reports_a_signing_key_fly_could_not_load() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = mission("safety_distance_m: 0.3", "", "")
+        + "link: { signing: { key_file: no-such.key } }\n";
+    let file = write(dir.path(), "signed.yaml", &text);
+    let log = dir.path().join("flights").join("f.json");
+    let log = log.to_str().expect("utf-8 path");
+    for command in [&["check"][..], &["fly", "--plain", "--log", log]] {
+        let out = run(command, &file);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{command:?}: {err}");
+        assert!(
+            err.contains("signing key file") && err.contains("no-such.key"),
+            "{command:?}: {err}"
+        );
+    }
+    assert!(!dir.path().join("flights").join("f.rrd").exists());
+}

@@ -232,21 +232,13 @@ fn read_log(path: &Path) -> FlightLog {
 /// 1 m/s speed limit in the simulators' truth, and the log names each drone's relay.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_formation_change_flies_through_two_relays() {
-    let Topology {
-        dir,
-        log,
-        mut fly,
-        _session,
-        truth,
-        mut north,
-        mut south,
-    } = Topology::start().await;
-    let status = tokio::task::block_in_place(|| fly.wait(FLIGHT_LIMIT));
-    let truth = truth.report();
-    assert!(north.terminate().success() && south.terminate().success());
+    let mut t = Topology::start().await;
+    let status = tokio::task::block_in_place(|| t.fly.wait(FLIGHT_LIMIT));
+    let truth = t.truth.report();
+    assert!(t.north.terminate().success() && t.south.terminate().success());
     assert!(status.success(), "the flight did not complete: {status}");
 
-    let log = read_log(&log);
+    let log = read_log(&t.log);
     let s = &log.summary;
     assert!(s.completed && s.safety_held && s.speed_held, "{s:?}");
     for d in &log.drones {
@@ -262,7 +254,7 @@ async fn the_formation_change_flies_through_two_relays() {
     assert!(truth.top_speed_mps <= 1.0 * 1.05, "truth {truth:?}");
     for relay in ["north", "south"] {
         let report: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(dir.path().join(format!("{relay}.json"))).unwrap(),
+            &std::fs::read_to_string(t.dir.path().join(format!("{relay}.json"))).unwrap(),
         )
         .unwrap();
         assert!(
@@ -283,26 +275,19 @@ async fn the_formation_change_flies_through_two_relays() {
 /// safety distance.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_relay_killed_mid_flight_is_a_link_loss_of_its_drones() {
-    let Topology {
-        dir: _dir,
-        log,
-        mut fly,
-        _session,
-        truth,
-        mut north,
-        mut south,
-    } = Topology::start().await;
+    let mut t = Topology::start().await;
     // The plan clock starts once every drone hovers over its pad; the first
     // status line comes a few seconds into plan execution.
     tokio::task::block_in_place(|| {
-        fly.expect_line(" flying  progress", Duration::from_secs(90));
+        t.fly
+            .expect_line(" flying  progress", Duration::from_secs(90));
         std::thread::sleep(Duration::from_secs(6));
     });
-    south.kill_hard();
-    let status = tokio::task::block_in_place(|| fly.wait(FLIGHT_LIMIT));
-    let truth = truth.report();
-    assert!(north.terminate().success());
-    let log = read_log(&log);
+    t.south.kill_hard();
+    let status = tokio::task::block_in_place(|| t.fly.wait(FLIGHT_LIMIT));
+    let truth = t.truth.report();
+    assert!(t.north.terminate().success());
+    let log = read_log(&t.log);
     for id in SOUTH.split(',') {
         assert!(
             log.events.iter().any(|e| e.drone.as_deref() == Some(id)

@@ -228,6 +228,19 @@ fn plan_recording_draws_the_ellipsoid_and_the_scaled_separation() {
     assert!(scaled.is_empty(), "a sphere mission has {scaled:?}");
 }
 
+/// Plans the corridor swap into `dir` and writes a flight log that flew it
+/// exactly, `dir/flight.json`.
+fn planned_flight_log(dir: &Path) -> (CompiledPlan, PathBuf) {
+    let (_, plan) = plan(dir);
+    let log = dir.join("flight.json");
+    std::fs::write(
+        &log,
+        serde_json::to_string(&synthetic_flight(&plan)).expect("json"),
+    )
+    .expect("write log");
+    (plan, log)
+}
+
 /// A flight log that flew the plan exactly, 2 s after arming, plus one event.
 fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
     let offset_s = 2.0;
@@ -302,13 +315,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
 #[test]
 fn replay_recording_has_flight_beside_plan() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let (_, plan) = plan(dir.path());
-    let log = dir.path().join("flight.json");
-    std::fs::write(
-        &log,
-        serde_json::to_string(&synthetic_flight(&plan)).expect("json"),
-    )
-    .expect("write log");
+    let (plan, log) = planned_flight_log(dir.path());
     let rrd = dir.path().join("replay.rrd");
     swarmctl()
         .arg("replay")
@@ -329,13 +336,7 @@ fn replay_recording_has_flight_beside_plan() {
 #[test]
 fn replay_without_mission_writes_a_recording_beside_the_log() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let (_, plan) = plan(dir.path());
-    let log = dir.path().join("flight.json");
-    std::fs::write(
-        &log,
-        serde_json::to_string(&synthetic_flight(&plan)).expect("json"),
-    )
-    .expect("write log");
+    let (plan, log) = planned_flight_log(dir.path());
     // The live recording `fly` leaves beside its log is never replaced.
     let live = dir.path().join("flight.rrd");
     std::fs::write(&live, b"the live recording").expect("write live recording");
@@ -370,13 +371,7 @@ fn replay_without_mission_writes_a_recording_beside_the_log() {
 #[test]
 fn replay_refuses_a_mission_or_plan_the_log_was_not_flown_from() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let (_, plan) = plan(dir.path());
-    let log = dir.path().join("flight.json");
-    std::fs::write(
-        &log,
-        serde_json::to_string(&synthetic_flight(&plan)).expect("json"),
-    )
-    .expect("write log");
+    let (_, log) = planned_flight_log(dir.path());
     let out = swarmctl()
         .arg("replay")
         .arg(&log)

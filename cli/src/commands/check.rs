@@ -1,5 +1,6 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
+use swarmctl::link::SigningKey;
 use swarmctl::{mission, plan};
 
 #[derive(Debug, clap::Args)]
@@ -13,7 +14,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut all_valid = true;
     for path in &args.missions {
         match mission::load(path) {
-            Ok(m) => print_summary(path, &m),
+            // The key `fly` would load: a missing or malformed one is the
+            // mission's problem too, and `check` says so first.
+            Ok(m) => match m.link.signing.as_ref().map(SigningKey::load) {
+                Some(Err(e)) => {
+                    all_valid = false;
+                    eprintln!("{}: link.signing: {e}", path.display());
+                }
+                _ => print_summary(path, &m),
+            },
             Err(e) => {
                 all_valid = false;
                 eprintln!(
