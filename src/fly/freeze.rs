@@ -107,6 +107,34 @@ pub fn lost_voxels(
     voxels
 }
 
+/// The voxels whose columns a drone down (or holding) at `position_m` blocks: the
+/// one nearest it and every other in that layer whose centre is within
+/// `clearance_m` of it horizontally. A drone its autopilot landed between two
+/// cells is too close to both columns for anyone to descend there (the executor
+/// refuses such a landing and hands the drone over), so a replan must keep
+/// every such column free, not only the nearest.
+pub fn voxels_near(mission: &Mission, position_m: [f64; 3], clearance_m: f64) -> Vec<Voxel> {
+    let Some(nearest) = nearest_voxel(mission, position_m) else {
+        return Vec::new();
+    };
+    let airspace = &mission.airspace;
+    let reach = (clearance_m / airspace.voxel_size_m())
+        .ceil()
+        .clamp(0.0, 8.0) as i32;
+    let mut voxels = vec![nearest];
+    for dx in -reach..=reach {
+        for dy in -reach..=reach {
+            let v = Voxel::new(nearest.x + dx, nearest.y + dy, nearest.z);
+            let c = airspace.center_m(v);
+            let horizontal_m = (c.x - position_m[0]).hypot(c.y - position_m[1]);
+            if v != nearest && horizontal_m < clearance_m && airspace.contains(v) {
+                voxels.push(v);
+            }
+        }
+    }
+    voxels
+}
+
 /// The airspace voxel whose centre is nearest `position_m` (ENU), if the point
 /// is inside the airspace's horizontal extent; below half-way to layer 0 (on the
 /// ground too), the pad-layer cell above.
@@ -228,9 +256,9 @@ mod tests {
         assert_eq!((t.position_m, t.step), ([1.0, 0.0, 1.5], 1));
     }
 
-    #[test]
-    fn a_lost_drone_may_be_anywhere_from_its_last_seen_centre_to_its_commanded_one() {
-        let m = crate::mission::from_yaml(
+    /// Four voxels in a row, 1 m apart, layer 0 at 1.5 m.
+    fn mission() -> Mission {
+        crate::mission::from_yaml(
             "
 name: line
 world: { dimensions: [4, 1, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
@@ -242,7 +270,12 @@ groups:
 ",
             "line.yaml".as_ref(),
         )
-        .expect("valid mission");
+        .expect("valid mission")
+    }
+
+    #[test]
+    fn a_lost_drone_may_be_anywhere_from_its_last_seen_centre_to_its_commanded_one() {
+        let m = mission();
         let xs = |v: Vec<Voxel>| v.iter().map(|v| (v.x, v.z)).collect::<Vec<_>>();
         // Seen at 0.5 (between 0 and 1), commanded to 1.5: voxels 0, 1, 2.
         assert_eq!(
@@ -261,6 +294,19 @@ groups:
     /// (8 drones, pad to pad), stopped anywhere along the schedule every 0.1 s,
     /// every drone's freeze voxel is its own, so the centres they go to are a
     /// voxel apart, and each is one its route visits.
+    #[test]
+    fn a_drone_down_between_cells_blocks_every_column_near_it() {
+        let m = mission();
+        let c = m.airspace.center_m(Voxel::new(1, 0, 0));
+        // Half-way between cells 1 and 2: both columns are within 0.6 m.
+        let between = [c.x + 0.5 * m.airspace.voxel_size_m(), c.y, c.z];
+        let mut xs: Vec<i32> = voxels_near(&m, between, 0.6).iter().map(|v| v.x).collect();
+        xs.sort_unstable();
+        assert_eq!(xs, [1, 2]);
+        // On a cell's centre, with a clearance below the voxel size: that cell alone.
+        assert_eq!(voxels_near(&m, [c.x, c.y, c.z], 0.6), [Voxel::new(1, 0, 0)]);
+    }
+
     #[test]
     fn frozen_drones_never_share_a_voxel() {
         let mission = crate::mission::load(std::path::Path::new(concat!(

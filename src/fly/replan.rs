@@ -16,13 +16,15 @@
 //! last known voxels and the columns below them are obstacles of the new plan.
 //! Replans are counted and capped per flight; each is recorded in the flight log.
 
+use super::contingency::Clearance;
 use super::drone::DroneRun;
-use super::freeze::{FreezeTarget, freeze_target, lost_voxels, nearest_voxel, replan_from_leg};
+use super::freeze::{FreezeTarget, freeze_target, lost_voxels, replan_from_leg, voxels_near};
 use super::log::{LogEvent, ReplanRecord};
 use super::phase::Phase;
 use super::splice::{Splice, SpliceError, SpliceInput, Survivor, plan_splice};
 use crate::mission::Mission;
 use crate::plan::{DiscretePlan, PlanOptions};
+use crate::world::Voxel;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -255,6 +257,34 @@ impl Replanner {
         self.state = State::Freezing(trigger);
     }
 
+    /// Where the drones leaving the plan (`left_out`, indices into `drones`) may
+    /// be, as voxels the replan keeps free with their columns.
+    fn left_out_voxels(&self, drones: &[DroneRun], left_out: &[usize], t_s: f64) -> Vec<Voxel> {
+        let mut voxels = Vec::new();
+        for &i in left_out {
+            let d = &drones[i];
+            if matches!(d.phase(), Phase::Lost { .. }) {
+                let commanded_m = d.follower().arc_m(d.route(), t_s);
+                let observed_m = d.progress().observed_arc_m;
+                voxels.extend(lost_voxels(
+                    &self.mission,
+                    d.route(),
+                    observed_m,
+                    commanded_m,
+                    d.position_m(),
+                ));
+            } else if let Some(p) = d.position_m() {
+                // Retired and down where it descended, perhaps between cells:
+                // nobody is planned to come down within the landing clearance.
+                let l = &self.mission.limits;
+                let clearance = Clearance::new(l.safety_distance_m, l.tracking_error_m);
+                let clearance_m = clearance.airborne_m.max(clearance.grounded_m);
+                voxels.extend(voxels_near(&self.mission, p, clearance_m));
+            }
+        }
+        voxels
+    }
+
     /// Once every survivor's commanded motion is at rest, takes the freeze targets
     /// and starts the planner on a blocking thread.
     fn freeze(
@@ -306,24 +336,7 @@ impl Replanner {
             &self.plan,
             targets.iter().map(|(_, t, _)| t.step),
         );
-        let mut lost = Vec::new();
-        for &i in &left_out {
-            let d = &drones[i];
-            if matches!(d.phase(), Phase::Lost { .. }) {
-                let commanded_m = d.follower().arc_m(d.route(), t_s);
-                let observed_m = d.progress().observed_arc_m;
-                lost.extend(lost_voxels(
-                    &self.mission,
-                    d.route(),
-                    observed_m,
-                    commanded_m,
-                    d.position_m(),
-                ));
-            } else if let Some(v) = d.position_m().and_then(|p| nearest_voxel(&self.mission, p)) {
-                // Retired and down where it descended: nobody is planned above it.
-                lost.push(v);
-            }
-        }
+        let lost = self.left_out_voxels(drones, &left_out, t_s);
         if !lost.is_empty() {
             let voxels: Vec<String> = lost.iter().map(ToString::to_string).collect();
             events.push(LogEvent::new(
