@@ -119,36 +119,50 @@ fn parse_fault(s: &str) -> Result<FaultSpec, String> {
     fly::parse_fault(s).map_err(|e| e.reason)
 }
 
+/// The flags' durations, read once.
+struct Durations {
+    /// `--ready-timeout`, if given.
+    ready: Option<std::time::Duration>,
+    /// `--replan-deadline`.
+    replan_deadline: std::time::Duration,
+}
+
 /// Refuses flags no flight can use, before anything is planned, started or
-/// recorded.
-fn check_args(args: &Args) -> anyhow::Result<()> {
-    let seconds = |value: f64| value.is_finite() && value >= 0.0;
-    if let Some(ready_s) = args.ready_timeout.filter(|&s| !seconds(s)) {
-        anyhow::bail!("--ready-timeout must be a non-negative number of seconds, got {ready_s}");
-    }
+/// recorded; returns their durations.
+fn check_args(args: &Args) -> anyhow::Result<Durations> {
+    let seconds = |value: f64| std::time::Duration::try_from_secs_f64(value).ok();
+    let ready = match args.ready_timeout {
+        Some(ready_s) => Some(seconds(ready_s).with_context(|| {
+            format!("--ready-timeout must be a non-negative number of seconds, got {ready_s}")
+        })?),
+        None => None,
+    };
     if !(args.pad_tolerance.is_finite() && args.pad_tolerance > 0.0) {
         anyhow::bail!(
             "--pad-tolerance must be a positive number of metres, got {}",
             args.pad_tolerance
         );
     }
-    if !seconds(args.replan_deadline) {
-        anyhow::bail!(
+    let replan_deadline = seconds(args.replan_deadline).with_context(|| {
+        format!(
             "--replan-deadline must be a non-negative number of seconds, got {}",
             args.replan_deadline
-        );
-    }
+        )
+    })?;
     if !(args.relay_wait.is_finite() && args.relay_wait > 0.0) {
         anyhow::bail!(
             "--relay-wait must be a positive number of seconds, got {}",
             args.relay_wait
         );
     }
-    Ok(())
+    Ok(Durations {
+        ready,
+        replan_deadline,
+    })
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    check_args(&args)?;
+    let durations = check_args(&args)?;
     // The same inputs `swarmctl plan` accepts: mission YAML or an imported instance.
     let mission = import::load_any(&args.mission, None)?;
     if let Some(usage) = super::refuse_unknown_fault_drones(&args.faults, &mission) {
@@ -166,7 +180,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let recording = start_recording(&args, &mission, &plan, &path);
     let observer = recording.as_ref().map(|(r, _)| r.observer());
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
-    let log = match runtime.block_on(fly_async(&args, &mission, &plan, observer)) {
+    let log = match runtime.block_on(fly_async(&args, &durations, &mission, &plan, observer)) {
         Ok(log) => log,
         Err(refused) => {
             if let Some(recording) = recording {
@@ -214,6 +228,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 /// the mission's vehicles or the bundled SITL; Ctrl-C lands everyone.
 async fn fly_async(
     args: &Args,
+    durations: &Durations,
     mission: &Mission,
     plan: &DiscretePlan,
     observer: Option<Arc<dyn fly::FlightObserver>>,
@@ -228,21 +243,14 @@ async fn fly_async(
     let (vehicles, backing) = vehicles(args, mission, plan, signing_key.as_ref()).await?;
     let mut options = FlyOptions::new(vehicles);
     let bundled = matches!(backing, Backing::Sitl(_));
-    let ready_s = args
-        .ready_timeout
-        .unwrap_or(if bundled { 5.0 } else { 60.0 });
-    options.ready_timeout = std::time::Duration::try_from_secs_f64(ready_s)
-        .map_err(|_| anyhow::anyhow!("--ready-timeout must be a non-negative number of seconds"))?;
+    options.ready_timeout = durations
+        .ready
+        .unwrap_or(std::time::Duration::from_secs(if bundled { 5 } else { 60 }));
     options.frames = frame_source(args);
-    if !(args.pad_tolerance.is_finite() && args.pad_tolerance > 0.0) {
-        anyhow::bail!("--pad-tolerance must be a positive number of metres");
-    }
     options.start_tolerance_m = args.pad_tolerance;
     options.replan = fly::replan::ReplanOptions {
         enabled: !args.no_replan,
-        deadline: std::time::Duration::try_from_secs_f64(args.replan_deadline).map_err(|_| {
-            anyhow::anyhow!("--replan-deadline must be a non-negative number of seconds")
-        })?,
+        deadline: durations.replan_deadline,
         max_replans: args.max_replans,
     };
     options.observers.extend(observer);
