@@ -22,7 +22,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use swarmctl::fly::freeze::{freeze_target, lost_voxels, replan_from_leg};
-use swarmctl::fly::path::scheduled_routes;
+use swarmctl::fly::path;
 use swarmctl::fly::splice::{SpliceInput, Survivor, plan_splice};
 use swarmctl::generate::{GenerateOptions, generate};
 use swarmctl::mission::{self, Mission};
@@ -70,7 +70,9 @@ fn first_answerable_loss(
 /// drone whose loss there can be replanned lost: what `plan_splice` gets in flight.
 fn frozen_mid_flight(m: &Mission, options: &PlanOptions) -> (SpliceInput, String) {
     let plan = plan::solve(m, options).expect("plan").plan;
-    let (routes, makespan_s) = scheduled_routes(m, &plan).expect("schedule");
+    let checked = swarmctl::compiled::compile_plan(m, &plan, 0).expect("checked");
+    let routes = path::routes(&checked);
+    let makespan_s = checked.compiled().execution.makespan_s;
     let t_s = makespan_s / 2.0;
     let frozen: Vec<_> = routes
         .iter()
@@ -172,8 +174,10 @@ fn replan_after_a_loss(c: &mut Criterion) {
         let (frozen, which) = frozen_mid_flight(m, &options);
         let splice = plan_splice(&frozen).expect("splice");
         eprintln!(
-            "{name}: {which}; the new plan runs {:.1} s",
-            splice.makespan_s
+            "{name}: {which}; the new plan runs {:.1} s; planned, checked and scheduled in {:.1} ms, the check of its spliced trajectories {}",
+            splice.makespan_s,
+            1e3 * splice.planning_s,
+            splice.check.line()
         );
         group.bench_with_input(
             BenchmarkId::new("splice mid-flight", name),

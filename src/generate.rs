@@ -162,13 +162,13 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
             voxel_size_m,
             // Lift the lowest layer one metre off the ground drones take off from
             // (higher for big voxels, so the pad layer below keeps the safety distance).
-            origin_m: [0.0, 0.0, 1.0_f64.max(0.5 * voxel_size_m)],
+            origin_m: Some([0.0, 0.0, 1.0_f64.max(0.5 * voxel_size_m)]),
             pad_height_m: None,
             geo_origin: None,
-            obstacles: world
-                .obstacles()
-                .map(|v| ObstacleSpec::Cell(to_raw(v)))
-                .collect(),
+            // Random voxels, not walls: those on layer 0 stand on the ground, the
+            // rest float (written overhead), exactly as drawn.
+            obstacles: ObstacleSpec::exactly(&world.obstacles().map(to_raw).collect::<Vec<_>>()),
+            formations_use_pad_layer: true,
         },
         limits: LimitsSpec {
             max_speed_mps: 1.0,

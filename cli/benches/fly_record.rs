@@ -288,6 +288,8 @@ fn fly_against(
         bail!("{} vehicles for {} drones", links.len(), plan.drones.len());
     }
     let mut options = FlyOptions::new(links);
+    // Composed and checked as `swarmctl fly` does, before the measured part.
+    let checked = swarmctl::compiled::compile_plan(mission, plan, 0)?;
     let runtime = tokio::runtime::Runtime::new()?;
     let threads = ThreadSampler::start();
     let (cpu0_s, main0_s, wall0) = (process_cpu_s()?, main_cpu_s()?, Instant::now());
@@ -296,7 +298,7 @@ fn fly_against(
         Some((rrd, recorder_options)) => {
             let live = LiveFlight::start(
                 mission,
-                plan,
+                checked.compiled(),
                 &Sink::File(rrd.clone()),
                 recorder_options.clone(),
             )?;
@@ -307,7 +309,7 @@ fn fly_against(
         None => None,
     };
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
-    let log = runtime.block_on(fly::fly(mission, plan, &options, abort_rx))?;
+    let log = runtime.block_on(fly::fly_checked(mission, &checked, &options, abort_rx))?;
     options.observers.clear();
     let stats = match live {
         Some(live) => {

@@ -36,8 +36,42 @@ enum Command {
     Template(commands::template::Args),
 }
 
+impl Command {
+    /// Whether the command only computes and reports: nothing it owns (a vehicle in
+    /// the air, a simulator, a relay process) outlives an abrupt end.
+    fn only_reports(&self) -> bool {
+        matches!(
+            self,
+            Command::Check(_)
+                | Command::Gen(_)
+                | Command::Plan(_)
+                | Command::Replay(_)
+                | Command::Template(_)
+        )
+    }
+}
+
+/// Lets a closed pipe end the process quietly, as it ends `cat` or `grep`:
+/// `swarmctl plan MISSION | head -1` stops at the first line nobody reads. Rust
+/// ignores SIGPIPE, so every `println!` after the reader left would panic (exit
+/// 101, "failed printing to stdout: Broken pipe"); with the default disposition
+/// the kernel ends the process at that write instead. Only for commands that
+/// merely report: a flight must never be ended by a terminal going away, so `fly`,
+/// `relay`, `sitl` and `bench` keep SIGPIPE ignored (their live status lines
+/// ignore a closed stderr, see `status`).
+fn end_quietly_on_closed_pipe() {
+    // SAFETY: signal(2) with SIG_DFL installs no handler; called before any other
+    // thread exists, so nothing races the change of disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if cli.command.only_reports() {
+        end_quietly_on_closed_pipe();
+    }
     let result = match cli.command {
         Command::Bench(args) => commands::bench::run(args),
         Command::Check(args) => commands::check::run(args),

@@ -73,6 +73,13 @@ impl FlightObserver for StatusView {
     }
 }
 
+/// Writes one status line to stderr, ignoring a closed stderr (a pipe whose
+/// reader left): `eprintln!` would panic inside the executor's tick, mid-flight.
+fn show(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
 struct Monitor {
     bar: Option<ProgressBar>,
     plain: bool,
@@ -161,7 +168,7 @@ impl Monitor {
                 .is_none_or(|t| t.elapsed() >= self.plain_period)
         {
             self.last_print = Some(Instant::now());
-            eprintln!("{line}");
+            show(&line);
             self.last_line = Some((line, true));
             return;
         }
@@ -176,12 +183,12 @@ impl Monitor {
             // line: the summary that follows (on stdout) starts on a line of its own.
             bar.finish_and_clear();
             if let Some((line, _)) = last {
-                eprintln!("{line}");
+                show(&line);
             }
         } else if self.plain
             && let Some((line, false)) = last
         {
-            eprintln!("{line}");
+            show(&line);
         }
     }
 }

@@ -1,9 +1,9 @@
 //! Reading a plan file for flight, trusting nothing in it.
 //!
-//! `swarmctl plan -o PLAN.json` writes a [`CompiledPlan`](super::CompiledPlan);
+//! `swarmctl plan -o PLAN.json` writes a [`CompiledPlan`];
 //! `swarmctl fly MISSION --plan PLAN.json` flies it. Between the two the file may
-//! have been edited, truncated, corrupted or written by someone else, so [`load`]
-//! checks it before anything is started:
+//! have been edited, truncated, corrupted, written by someone else or for other
+//! limits, so [`load`] checks it before anything is started:
 //!
 //! 1. **It parses.** A JSON syntax error names the line and column; a field that
 //!    is missing or of the wrong type is named by its path
@@ -17,14 +17,22 @@
 //!    with every drone on a target of its leg, paths move at most one voxel per
 //!    step, never enter an obstacle or leave the airspace, and no two drones meet,
 //!    swap or rotate; the reported makespan and sum of costs are the true ones.
+//! 4. **Its trajectories pass the independent checker.** The discrete plan is
+//!    composed exactly as `swarmctl plan` composes it ([`compile_plan`]: schedule,
+//!    execution graph, trajectories) and the whole flight is checked pad to pad.
+//!    What `fly` flies is that checked composition.
+//! 5. **It holds what its plan composes to.** Every derived field the file has
+//!    (`makespan_s`, `setpoint_period_s`, `execution`, `check`, each drone's `pad`
+//!    and `trajectory`) must equal the composition's, numbers to within
+//!    [`SAME_WITHIN`]: a moved sample, an edited gate or a file written for other
+//!    limits or by another version is refused, naming the fields that differ, so
+//!    the samples a user inspected are the ones checked and flown. A file that
+//!    holds only the discrete plan (no derived field at all) is composed and
+//!    checked alike.
 //!
-//! Only the discrete plan is read (`makespan_steps`, `sum_of_costs_steps`, `legs`,
-//! and each drone's `id`, `group`, `goal`, `path`); a drone's `pad` is implied by
-//! its path's first voxel. The flight executor schedules and
-//! samples its own trajectories from it, so the file's `trajectory`, `execution`
-//! and `check` are never flown and are not looked at; a file holding only the
-//! discrete plan is accepted too. Every error names the file.
+//! Every error names the file.
 
+use super::{CheckedPlan, CompileError, CompiledPlan, compile_plan};
 use crate::mission::Mission;
 use crate::plan::{DiscretePlan, DronePlan, validate_plan};
 use crate::world::Voxel;
@@ -34,6 +42,17 @@ use std::path::{Path, PathBuf};
 
 /// At most this many problems are listed in one error message.
 const MAX_LISTED: usize = 20;
+
+/// Two numbers of a derived field are the same when they differ by at most this,
+/// relative to the larger (or absolutely, below 1): JSON's decimal round trip
+/// may move a float by an ulp, an edit or another schedule moves it by far more.
+pub const SAME_WITHIN: f64 = 1e-9;
+
+/// Fields `swarmctl plan -o` derives from the discrete plan, at the top level.
+const DERIVED: [&str; 4] = ["makespan_s", "setpoint_period_s", "execution", "check"];
+
+/// Fields it derives for each drone.
+const DERIVED_PER_DRONE: [&str; 2] = ["pad", "trajectory"];
 
 /// Why a plan file cannot be flown. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
@@ -83,6 +102,30 @@ pub enum PlanFileError {
         /// Everything found wrong, one sentence each.
         problems: Vec<String>,
     },
+    /// The plan is valid, but composed for flight it fails the independent
+    /// checker (or cannot be scheduled).
+    #[error("plan file {} cannot be flown: {error}", .path.display())]
+    Unsafe {
+        /// The plan file.
+        path: PathBuf,
+        /// Why: the schedule's error, or the checker's violations.
+        error: CompileError,
+    },
+    /// The file's derived fields are not what its discrete plan composes to for
+    /// this mission: edited, or written for other limits or by another version.
+    #[error(
+        "plan file {} does not hold what its plan composes to for mission {mission:?} (edited, or written for other limits or by another version of swarmctl; plan again with `swarmctl plan -o`):\n  {}",
+        .path.display(),
+        list(.differences)
+    )]
+    Stale {
+        /// The plan file.
+        path: PathBuf,
+        /// The mission it was composed for.
+        mission: String,
+        /// Each field that differs: where, the file's value and the composition's.
+        differences: Vec<String>,
+    },
 }
 
 impl PlanFileError {
@@ -92,7 +135,9 @@ impl PlanFileError {
             PlanFileError::Read { path, .. }
             | PlanFileError::Syntax { path, .. }
             | PlanFileError::Field { path, .. }
-            | PlanFileError::Invalid { path, .. } => path,
+            | PlanFileError::Invalid { path, .. }
+            | PlanFileError::Unsafe { path, .. }
+            | PlanFileError::Stale { path, .. } => path,
         }
     }
 }
@@ -117,9 +162,10 @@ fn list(problems: &[String]) -> String {
     text
 }
 
-/// Reads the plan file at `path` and returns its discrete plan if, and only if,
-/// it is a valid plan for `mission` (see the module documentation).
-pub fn load(path: &Path, mission: &Mission) -> Result<DiscretePlan, PlanFileError> {
+/// Reads the plan file at `path` and returns its checked composition if, and
+/// only if, it is a valid plan for `mission` that passes the checker and holds
+/// what it composes to (see the module documentation).
+pub fn load(path: &Path, mission: &Mission) -> Result<CheckedPlan, PlanFileError> {
     let bytes = std::fs::read(path).map_err(|error| PlanFileError::Read {
         path: path.to_path_buf(),
         error,
@@ -132,7 +178,7 @@ pub fn from_bytes(
     bytes: &[u8],
     path: &Path,
     mission: &Mission,
-) -> Result<DiscretePlan, PlanFileError> {
+) -> Result<CheckedPlan, PlanFileError> {
     let value: Value = serde_json::from_slice(bytes).map_err(|error| PlanFileError::Syntax {
         path: path.to_path_buf(),
         error,
@@ -155,7 +201,148 @@ pub fn from_bytes(
     if let Err(violations) = validate_plan(mission, &plan) {
         return Err(invalid(violations.iter().map(|v| v.to_string()).collect()));
     }
-    Ok(plan)
+    let lower_bound_steps = match value.get("lower_bound_steps") {
+        None | Some(Value::Null) => 0,
+        Some(v) => {
+            typed(v, "lower_bound_steps").map_err(|(field, reason)| PlanFileError::Field {
+                path: path.to_path_buf(),
+                field,
+                reason,
+            })?
+        }
+    };
+    let checked =
+        compile_plan(mission, &plan, lower_bound_steps).map_err(|error| PlanFileError::Unsafe {
+            path: path.to_path_buf(),
+            error,
+        })?;
+    let differences = stale_fields(&value, checked.compiled());
+    if !differences.is_empty() {
+        return Err(PlanFileError::Stale {
+            path: path.to_path_buf(),
+            mission: mission.name.clone(),
+            differences,
+        });
+    }
+    Ok(checked)
+}
+
+/// Where the file's derived fields differ from `composed`'s, one line each (at
+/// most [`MAX_LISTED`] and a last line saying there are more); none for a file
+/// without any derived field.
+fn stale_fields(file: &Value, composed: &CompiledPlan) -> Vec<String> {
+    let file_drones: &[Value] = file
+        .get("drones")
+        .and_then(Value::as_array)
+        .map_or(&[], Vec::as_slice);
+    let has_any = |v: &Value, keys: &[&str]| keys.iter().any(|k| v.get(k).is_some());
+    if !has_any(file, &DERIVED) && !file_drones.iter().any(|d| has_any(d, &DERIVED_PER_DRONE)) {
+        return Vec::new();
+    }
+    let ours = match serde_json::to_value(composed) {
+        Ok(v) => v,
+        Err(e) => return vec![format!("the composed plan cannot be compared: {e}")],
+    };
+    let mut out = Differences::default();
+    for key in DERIVED {
+        out.compare(file.get(key), ours.get(key), key);
+    }
+    let our_drones = ours
+        .get("drones")
+        .and_then(Value::as_array)
+        .map_or(&[][..], Vec::as_slice);
+    for (i, (f, o)) in file_drones.iter().zip(our_drones).enumerate() {
+        for key in DERIVED_PER_DRONE {
+            out.compare(f.get(key), o.get(key), &format!("drones[{i}].{key}"));
+        }
+    }
+    out.into_lines()
+}
+
+/// Differences found so far, capped.
+#[derive(Default)]
+struct Differences {
+    lines: Vec<String>,
+    more: bool,
+}
+
+impl Differences {
+    fn push(&mut self, line: String) {
+        // One line is kept for saying that there are more.
+        if self.lines.len() + 1 < MAX_LISTED {
+            self.lines.push(line);
+        } else {
+            self.more = true;
+        }
+    }
+
+    /// Compares the file's value at `at` with the composition's. Recursion follows
+    /// the composition's own shape, so a hostile file cannot make it deep.
+    fn compare(&mut self, file: Option<&Value>, ours: Option<&Value>, at: &str) {
+        if self.more {
+            return;
+        }
+        match (file, ours) {
+            (None, None) => {}
+            (None, Some(_)) => self.push(format!(
+                "{at}: missing, while the file holds other derived fields"
+            )),
+            (Some(_), None) => self.push(format!("{at}: the composition has no such field")),
+            (Some(Value::Number(a)), Some(Value::Number(b))) => {
+                if !same_number(a.as_f64(), b.as_f64()) {
+                    self.push(format!("{at}: {a} in the file, {b} composed from its plan"));
+                }
+            }
+            (Some(Value::Array(a)), Some(Value::Array(b))) => {
+                if a.len() != b.len() {
+                    self.push(format!(
+                        "{at}: {} entries in the file, {} composed from its plan",
+                        a.len(),
+                        b.len()
+                    ));
+                    return;
+                }
+                for (k, (x, y)) in a.iter().zip(b).enumerate() {
+                    self.compare(Some(x), Some(y), &format!("{at}[{k}]"));
+                }
+            }
+            (Some(Value::Object(a)), Some(Value::Object(b))) => {
+                let keys: std::collections::BTreeSet<&String> = a.keys().chain(b.keys()).collect();
+                for key in keys {
+                    self.compare(a.get(key), b.get(key), &format!("{at}.{key}"));
+                }
+            }
+            (Some(a), Some(b)) if a == b => {}
+            (Some(a), Some(b)) => self.push(format!(
+                "{at}: {} in the file, {} composed from its plan",
+                short(a),
+                short(b)
+            )),
+        }
+    }
+
+    fn into_lines(mut self) -> Vec<String> {
+        if self.more {
+            self.lines
+                .push("… further differences not listed".to_string());
+        }
+        self.lines
+    }
+}
+
+fn same_number(a: Option<f64>, b: Option<f64>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => (a - b).abs() <= SAME_WITHIN * a.abs().max(b.abs()).max(1.0),
+        _ => false,
+    }
+}
+
+/// A value in a message: scalars as written, lists and objects by kind.
+fn short(value: &Value) -> String {
+    match value {
+        Value::Array(_) | Value::Object(_) => kind(value).to_string(),
+        scalar => scalar.to_string(),
+    }
 }
 
 /// A problem at a place in the file: (field path, reason).
@@ -328,12 +515,21 @@ groups:
         v
     }
 
+    /// The whole file `swarmctl plan -o` writes for the tiny mission.
+    fn full() -> Value {
+        let solution =
+            crate::plan::solve(&tiny(), &crate::plan::PlanOptions::default()).expect("plans");
+        let compiled = super::super::compile(&tiny(), &solution).expect("compiles");
+        serde_json::to_value(&compiled).expect("serialises")
+    }
+
     fn load_value(value: &Value) -> Result<DiscretePlan, PlanFileError> {
         from_bytes(
             serde_json::to_string(value).unwrap().as_bytes(),
             Path::new("p.json"),
             &tiny(),
         )
+        .map(|checked| checked.discrete())
     }
 
     fn message(value: &Value) -> String {
@@ -350,6 +546,66 @@ groups:
             plan.drones[1].path[plan.legs[1].end_step as usize],
             Voxel::new(2, 2, 0)
         );
+    }
+
+    #[test]
+    fn the_whole_file_is_accepted_and_flies_what_it_holds() {
+        let v = full();
+        let checked = from_bytes(
+            serde_json::to_string(&v).unwrap().as_bytes(),
+            Path::new("p.json"),
+            &tiny(),
+        )
+        .expect("the file plan -o wrote");
+        assert!(checked.figures().passed());
+        let samples = v["drones"][0]["trajectory"].as_array().unwrap();
+        let ours = &checked.compiled().drones[0].trajectory;
+        assert_eq!(samples.len(), ours.len());
+        assert!((samples[5][1].as_f64().unwrap() - ours[5][1]).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_moved_sample_is_refused_naming_it() {
+        let mut v = full();
+        let x = v["drones"][0]["trajectory"][10][1].as_f64().unwrap();
+        v["drones"][0]["trajectory"][10][1] = serde_json::json!(x + 0.3);
+        let e = message(&v);
+        assert!(e.contains("does not hold what its plan composes to"), "{e}");
+        assert!(e.contains("drones[0].trajectory[10][1]"), "{e}");
+    }
+
+    #[test]
+    fn an_edited_gate_or_a_missing_derived_field_is_refused() {
+        let mut v = full();
+        let reach_s = &mut v["execution"]["drones"][1]["events"][1]["reach_s"];
+        *reach_s = serde_json::json!(reach_s.as_f64().unwrap() + 5.0);
+        let e = message(&v);
+        assert!(e.contains("execution.drones[1].events[1].reach_s"), "{e}");
+
+        let mut v = full();
+        v["drones"][1].as_object_mut().unwrap().remove("trajectory");
+        let e = message(&v);
+        assert!(e.contains("drones[1].trajectory: missing"), "{e}");
+    }
+
+    #[test]
+    fn a_file_for_other_limits_is_refused() {
+        // Written for 1 m/s, flown with a mission that now allows 0.5 m/s: the
+        // samples are not what the mission's schedule gives.
+        let v = full();
+        let slower = mission::from_yaml(
+            &MISSION.replace("max_speed_mps: 1.0", "max_speed_mps: 0.5"),
+            Path::new("tiny.yaml"),
+        )
+        .expect("mission");
+        let e = from_bytes(
+            serde_json::to_string(&v).unwrap().as_bytes(),
+            Path::new("p.json"),
+            &slower,
+        )
+        .expect_err("stale")
+        .to_string();
+        assert!(e.contains("makespan_s"), "{e}");
     }
 
     #[test]

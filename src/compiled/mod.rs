@@ -1,19 +1,29 @@
 //! A compiled plan: the discrete plan, its schedule and the trajectories to stream.
 //!
-//! This is what `swarmctl plan -o PLAN.json` writes and `swarmctl fly --plan` reads.
-//! Compiling checks the sampled trajectories with the independent separation checker
-//! and refuses a plan that breaks any limit. [`file::load`] reads a plan file back for
-//! flight and refuses one that does not fit its mission.
+//! This is what `swarmctl plan -o PLAN.json` writes and what `swarmctl fly` flies,
+//! planned there and then or read with `--plan`. [`compile_plan`] is the one
+//! composition of a discrete plan into it (schedule, execution graph, sampled
+//! trajectories) and runs the independent checker on the whole flight; it refuses
+//! a plan that breaks any limit, and its [`CheckedPlan`] is the only thing the
+//! flight executor flies. [`file::load`] reads a plan file back for flight,
+//! composes its discrete plan the same way and refuses one that does not fit its
+//! mission, fails the check or holds anything else than what it composes to. A
+//! replan in flight composes with [`compose`] and checks its spliced trajectories
+//! with [`check_flight`].
 
 use crate::mission::Mission;
-use crate::plan::{DiscretePlan, PlanLeg, PlanStats, Solution};
+use crate::plan::{DiscretePlan, PlanLeg, Solution};
 use crate::schedule::{self, ExecutionPlan, ScheduleError};
+use crate::trajectory::{self, Trajectories};
 use crate::verify::{self, CheckError, SeparationReport};
 use crate::world::Voxel;
 use serde::{Deserialize, Serialize};
+use std::time::Instant;
 
+pub mod figures;
 pub mod file;
 
+pub use figures::CheckFigures;
 pub use file::PlanFileError;
 
 /// The plan file (see ARCHITECTURE.md for the fixed fields).
@@ -100,42 +110,157 @@ impl CompiledPlan {
     }
 }
 
-/// Schedules `solution`, samples its trajectories at the mission's setpoint rate and
-/// checks them; errors if any limit breaks.
-pub fn compile(mission: &Mission, solution: &Solution) -> Result<CompiledPlan, CompileError> {
-    let plan = &solution.plan;
+/// A compiled plan the independent checker passed, with the trajectories its
+/// samples were taken from. Only [`compile_plan`] makes one (and [`file::load`]
+/// through it), so holding one means the check ran on exactly these
+/// trajectories: the flight executor takes nothing else.
+#[derive(Debug, Clone)]
+pub struct CheckedPlan {
+    compiled: CompiledPlan,
+    trajectories: Trajectories,
+    figures: CheckFigures,
+}
+
+impl CheckedPlan {
+    /// The plan file's content: discrete plan, execution graph, samples, report.
+    pub fn compiled(&self) -> &CompiledPlan {
+        &self.compiled
+    }
+
+    /// The trajectories that were sampled and checked: the runs the executor
+    /// streams, joined with `compiled().execution` into routes.
+    pub fn trajectories(&self) -> &Trajectories {
+        &self.trajectories
+    }
+
+    /// What the check measured, in short (for the flight log).
+    pub fn figures(&self) -> &CheckFigures {
+        &self.figures
+    }
+
+    /// The discrete plan inside.
+    pub fn discrete(&self) -> DiscretePlan {
+        self.compiled.discrete()
+    }
+
+    /// The plan file's content alone.
+    pub fn into_compiled(self) -> CompiledPlan {
+        self.compiled
+    }
+}
+
+/// A discrete plan composed for flight, not yet checked: the execution graph the
+/// executor gates on and the trajectories it streams.
+#[derive(Debug, Clone)]
+pub struct Composition {
+    /// The Temporal Plan Graph's events per drone, with times and gates.
+    pub execution: ExecutionPlan,
+    /// Every drone's rest-to-rest runs, plan order.
+    pub trajectories: Trajectories,
+}
+
+/// Schedules `plan` in `mission` and derives its execution graph and trajectories:
+/// the one place the chain plan → schedule → trajectories is written. Everything
+/// that flies also goes through [`check_flight`] ([`compile_plan`] does both).
+pub fn compose(mission: &Mission, plan: &DiscretePlan) -> Result<Composition, ScheduleError> {
     let tpg = schedule::build(mission, plan)?;
     let schedule = schedule::solve(&tpg)?;
-    let execution = schedule::execution_plan(&tpg, &schedule);
-    let trajectories = crate::trajectory::from_schedule(&schedule);
-    let samples = trajectories.sample(mission.link.setpoint_rate_hz);
-    // The checker sees the whole flight, from the ground up and back down.
-    let l = &mission.limits;
-    let flight = trajectories.pad_to_pad(mission.commanded_limits().kinematics());
-    let check = verify::check(&flight.sample(mission.link.setpoint_rate_hz), l)?;
+    Ok(Composition {
+        execution: schedule::execution_plan(&tpg, &schedule),
+        trajectories: trajectory::from_schedule(&schedule),
+    })
+}
+
+/// Where the checked trajectories begin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Begin {
+    /// On the ground: a whole flight, each drone climbing from the ground below
+    /// its start first.
+    OnPads,
+    /// In the air, each drone at rest at its start: a replan spliced in flight.
+    Airborne,
+}
+
+/// Runs the independent checker on `trajectories` as they are flown in `mission`:
+/// from the ground (after the climb, [`Begin::OnPads`]) or from where the drones
+/// rest in the air ([`Begin::Airborne`]), to each drone's touchdown, sampled at the
+/// setpoint rate. Returns the report, drones named by id, and its figures; the
+/// caller refuses what it must. Errors only when the checker cannot run at all.
+pub fn check_flight(
+    mission: &Mission,
+    trajectories: &Trajectories,
+    begin: Begin,
+) -> Result<(SeparationReport, CheckFigures), CheckError> {
+    let started = Instant::now();
+    let kinematics = mission.commanded_limits().kinematics();
+    let flight = match begin {
+        Begin::OnPads => trajectories.pad_to_pad(kinematics),
+        Begin::Airborne => trajectories.to_ground(kinematics),
+    };
+    let rate_hz = mission.link.setpoint_rate_hz;
+    let samples = flight.sample(rate_hz);
+    let ids: Vec<&str> = trajectories.drones.iter().map(|d| d.id.as_str()).collect();
+    let report = name_drones(verify::check(&samples, &mission.limits)?, &ids);
+    let figures = CheckFigures::new(
+        &report,
+        &mission.limits,
+        &ids,
+        samples.first().map_or(0, Vec::len),
+        1.0 / rate_hz,
+        started.elapsed(),
+    );
+    Ok((report, figures))
+}
+
+/// Composes `plan` for `mission` ([`compose`]), samples its trajectories at the
+/// mission's setpoint rate and checks the whole flight pad to pad
+/// ([`check_flight`]); errors, naming every violation, if any limit breaks.
+/// `lower_bound_steps` is the planner's bound, kept in the file for comparison
+/// (0 when unknown).
+pub fn compile_plan(
+    mission: &Mission,
+    plan: &DiscretePlan,
+    lower_bound_steps: u32,
+) -> Result<CheckedPlan, CompileError> {
+    let Composition {
+        execution,
+        trajectories,
+    } = compose(mission, plan)?;
+    let (check, figures) = check_flight(mission, &trajectories, Begin::OnPads)?;
     if !check.ok() {
-        return Err(CompileError::Limits(Box::new(name_drones(check, plan))));
+        return Err(CompileError::Limits(Box::new(check)));
     }
-    let stats: &PlanStats = &solution.stats;
-    Ok(CompiledPlan {
+    let samples = trajectories.sample(mission.link.setpoint_rate_hz);
+    let compiled = CompiledPlan {
         mission: mission.name.clone(),
         makespan_steps: plan.makespan_steps,
         sum_of_costs_steps: plan.sum_of_costs_steps,
-        lower_bound_steps: stats.initial_lower_bound_steps,
+        lower_bound_steps,
         makespan_s: trajectories.makespan_s,
         setpoint_period_s: 1.0 / mission.link.setpoint_rate_hz,
         legs: plan.legs.clone(),
         drones: compiled_drones(plan, samples),
         execution,
         check,
+    };
+    Ok(CheckedPlan {
+        compiled,
+        trajectories,
+        figures,
     })
 }
 
+/// [`compile_plan`] for a planner's solution, as the plan file holds it.
+pub fn compile(mission: &Mission, solution: &Solution) -> Result<CompiledPlan, CompileError> {
+    let lower_bound_steps = solution.stats.initial_lower_bound_steps;
+    Ok(compile_plan(mission, &solution.plan, lower_bound_steps)?.into_compiled())
+}
+
 /// The checker knows drones by index (`#3`); users know them by id.
-fn name_drones(mut report: SeparationReport, plan: &DiscretePlan) -> SeparationReport {
+fn name_drones(mut report: SeparationReport, ids: &[&str]) -> SeparationReport {
     for violation in &mut report.violations {
-        for (i, d) in plan.drones.iter().enumerate().rev() {
-            *violation = violation.replace(&format!("#{i}"), &format!("{:?}", d.id));
+        for (i, id) in ids.iter().enumerate().rev() {
+            *violation = violation.replace(&format!("#{i}"), &format!("{id:?}"));
         }
     }
     report

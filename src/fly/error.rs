@@ -1,14 +1,23 @@
 //! Why a flight did not start or could not continue.
 
+use crate::compiled::CompileError;
 use crate::link::LinkError;
-use crate::schedule::ScheduleError;
 
 /// A failure before takeoff: nothing flew (anyone armed has been disarmed again).
 #[derive(Debug, thiserror::Error)]
 pub enum FlyError {
-    /// The plan cannot be turned into a schedule to fly.
-    #[error("cannot schedule the plan: {0}")]
-    Schedule(#[from] ScheduleError),
+    /// The plan cannot be scheduled, or its trajectories fail the independent
+    /// checker: refused before any vehicle was contacted.
+    #[error("refused before arming: {0}")]
+    Refused(#[from] CompileError),
+    /// The checked plan was compiled (and checked) for another mission.
+    #[error("the plan was compiled and checked for mission {plan:?}, not {mission:?}")]
+    OtherMission {
+        /// The mission the plan was compiled for.
+        plan: String,
+        /// The mission being flown.
+        mission: String,
+    },
     /// One vehicle is needed per planned drone.
     #[error("the plan has {plan} drones but {vehicles} vehicles were given")]
     VehicleCount {

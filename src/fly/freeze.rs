@@ -317,8 +317,9 @@ groups:
         let plan = crate::plan::solve(&mission, &crate::plan::PlanOptions::default())
             .expect("plan")
             .plan;
-        let (routes, makespan_s) =
-            crate::fly::path::scheduled_routes(&mission, &plan).expect("schedule");
+        let checked = crate::compiled::compile_plan(&mission, &plan, 0).expect("checked");
+        let routes = crate::fly::path::routes(&checked);
+        let makespan_s = checked.compiled().execution.makespan_s;
         let mut checked = 0;
         for tenth in 0..=(makespan_s * 10.0).ceil() as u32 {
             let t_s = f64::from(tenth) / 10.0;

@@ -1,5 +1,6 @@
 //! The flight log: every drone's telemetry and a summary of how the flight went.
 
+use crate::compiled::CheckFigures;
 use serde::{Deserialize, Serialize};
 
 /// Telemetry speed may exceed the mission's limit by this fraction before the
@@ -40,6 +41,11 @@ pub struct Summary {
     pub duration_s: f64,
     /// The schedule's makespan: how long plan execution should take.
     pub planned_makespan_s: f64,
+    /// What the independent trajectory checker measured before anything was
+    /// started, on the very trajectories flown (`compiled::compile_plan`);
+    /// `None` in logs written before `fly` ran it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub check: Option<CheckFigures>,
     /// How long plan execution took (all drones above their pads to all above the
     /// pads they land on).
     pub executed_makespan_s: Option<f64>,
@@ -114,6 +120,23 @@ pub struct Summary {
     /// Every replan tried in flight (see `fly::replan`), in order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub replans: Vec<ReplanRecord>,
+    /// Every drone the flight cannot say is on the ground (lost, handed over, given
+    /// up in the air), in plan order: an operator must go and find each. A flight
+    /// with any is no success, however well the survivors did ([`Summary::succeeded`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub unaccounted: Vec<Unaccounted>,
+}
+
+/// A drone not known to be on the ground when the flight ended.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Unaccounted {
+    /// The drone's mission id.
+    pub id: String,
+    /// The phase it was left in, as the status view names it (`LOST`, `HANDED OVER`).
+    pub phase: String,
+    /// Why it was given up, when the flight knows (a refused command).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
 }
 
 /// A lost drone's last report.
@@ -134,8 +157,8 @@ pub struct LastKnown {
 }
 
 impl LastKnown {
-    /// Its line in the summary.
-    pub fn line(&self) -> String {
+    /// Where and in what state it was last heard from, for the summary.
+    pub fn whereabouts(&self) -> String {
         let place = match (self.t_s, self.position_m) {
             (Some(t), Some([x, y, z])) => {
                 format!("last position ({x:.2}, {y:.2}, {z:.2}) m ENU at {t:.1} s")
@@ -145,11 +168,7 @@ impl LastKnown {
         let mut state = vec![if self.armed { "armed" } else { "disarmed" }.to_string()];
         state.extend(self.landed_state.clone());
         state.extend(self.battery_pct.map(|b| format!("battery {b} %")));
-        format!(
-            "  {:<20} {place}; {}",
-            format!("LOST {}", self.id),
-            state.join(", ")
-        )
+        format!("{place}; {}", state.join(", "))
     }
 }
 
@@ -159,13 +178,17 @@ impl ReplanRecord {
         let r = self;
         match (&r.fallback, r.new_makespan_s) {
             (None, Some(new_s)) => format!(
-                "  replanned            at {:.1} s without {}: new plan {:.1} s (old {:.1} s), planned in {:.1} ms, flying {:.2} s after the loss was noticed",
+                "  replanned            at {:.1} s without {}: new plan {:.1} s (old {:.1} s), planned in {:.1} ms, flying {:.2} s after the loss was noticed{}",
                 r.at_s,
                 r.left_out.join(", "),
                 new_s,
                 r.old_makespan_s,
                 1e3 * r.planning_s,
-                r.latency_s
+                r.latency_s,
+                r.check.as_ref().map_or(String::new(), |c| format!(
+                    "; checked: min separation ≥ {:.3} m (need {:.3} m), max speed {:.2} m/s",
+                    c.min_separation_bound_m, c.required_separation_m, c.max_speed_mps
+                ))
             ),
             (why, _) => format!(
                 "  NOT replanned        at {:.1} s without {}: {}",
@@ -197,6 +220,11 @@ pub struct ReplanRecord {
     pub new_makespan_s: Option<f64>,
     /// Why the flight fell back to holding the dependants; `None` when spliced.
     pub fallback: Option<String>,
+    /// What the trajectory checker measured on the spliced trajectories (the
+    /// re-centring runs, the new plan, each touchdown); `None` when the replan
+    /// never got that far.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub check: Option<CheckFigures>,
 }
 
 /// One drone's record: which vehicle flew it, how close it got, how long it
@@ -364,7 +392,11 @@ impl Summary {
         let mut lines = vec![
             format!(
                 "  completed            {}",
-                if self.completed { "yes" } else { "NO" }
+                match (self.completed, self.all_accounted_for()) {
+                    (true, true) => "yes",
+                    (true, false) => "survivors only: not every drone landed",
+                    (false, _) => "NO",
+                }
             ),
             format!(
                 "  duration             {:.1} s (arm to landed)",
@@ -422,17 +454,19 @@ impl Summary {
         if let Some(scaled) = self.scaled_line() {
             lines.insert(4, scaled);
         }
+        lines.extend(
+            self.check
+                .as_ref()
+                .map(|c| format!("  {:<20} {}", "pre-flight check", c.line())),
+        );
         lines.extend(self.replans.iter().map(ReplanRecord::line));
-        lines.extend(self.lost_last_known.iter().map(LastKnown::line));
-        for (label, ids) in [
-            ("LOST", &self.lost),
-            ("retired early", &self.retired),
-            ("HANDED OVER", &self.handed_over),
-        ] {
-            if !ids.is_empty() {
-                lines.push(format!("  {label:<20} {}", ids.join(", ")));
-            }
+        if !self.retired.is_empty() {
+            lines.push(format!(
+                "  retired early        {}",
+                self.retired.join(", ")
+            ));
         }
+        lines.extend(self.unaccounted_line());
         lines
     }
 }
@@ -494,6 +528,8 @@ mod tests {
             retired: Vec::new(),
             handed_over: Vec::new(),
             replans: Vec::new(),
+            check: None,
+            unaccounted: Vec::new(),
         }
     }
 
@@ -518,8 +554,28 @@ mod tests {
             text.contains("plan execution       44.5 s (planned 40.0 s; stretched 4.5 s by: gating waits 6.3 s and tracking holds 1.5 s, summed over drones)"),
             "{text}"
         );
+        // Lost, and listed once whether or not the log kept `unaccounted`.
+        s.completed = true;
+        assert!(!s.succeeded());
+        for unaccounted in [
+            Vec::new(),
+            vec![Unaccounted {
+                id: "b3".into(),
+                phase: "LOST".into(),
+                reason: None,
+            }],
+        ] {
+            s.unaccounted = unaccounted;
+            let text = s.lines().join("\n");
+            assert!(
+                text.contains("  unaccounted for      1 drone: LOST b3 (last position (1.00, 2.50, 1.50) m ENU at 14.7 s; armed, in the air, battery 81 %)"),
+                "{text}"
+            );
+            assert_eq!(text.matches("LOST b3").count(), 1, "{text}");
+        }
+        let text = s.lines().join("\n");
         assert!(
-            text.contains("  LOST b3              last position (1.00, 2.50, 1.50) m ENU at 14.7 s; armed, in the air, battery 81 %"),
+            text.contains("completed            survivors only: not every drone landed"),
             "{text}"
         );
         s.executed_makespan_s = Some(40.0);
@@ -558,6 +614,44 @@ mod tests {
     }
 
     #[test]
+    fn the_pre_flight_check_is_one_summary_line_and_reads_back() {
+        let mut s = summary(0.9);
+        s.check = Some(CheckFigures {
+            drones: 8,
+            samples: 812,
+            sample_period_s: 0.05,
+            min_separation_bound_m: 0.612,
+            required_separation_m: 0.4,
+            min_scaled_bound: None,
+            closest: Some(("b1".into(), "r2".into(), 12.5)),
+            max_speed_mps: 0.95,
+            max_accel_mps2: 1.9,
+            max_jerk_mps3: 2.4,
+            check_s: 0.0031,
+            violations: Vec::new(),
+        });
+        let lines: Vec<String> = s
+            .lines()
+            .into_iter()
+            .filter(|l| l.contains("pre-flight check"))
+            .collect();
+        assert_eq!(lines.len(), 1, "{lines:?}");
+        assert!(
+            lines[0].contains("min separation ≥ 0.612 m (setpoints need 0.400 m)")
+                && lines[0].contains("8 drones × 812 samples in 3.1 ms"),
+            "{}",
+            lines[0]
+        );
+        let json = serde_json::to_string(&s).expect("serialises");
+        let back: Summary = serde_json::from_str(&json).expect("reads back");
+        assert_eq!(back.check, s.check);
+        // A log from before the check was logged reads back without it.
+        let old = json.replace(",\"check\":", ",\"unused\":");
+        let back: Summary = serde_json::from_str(&old).expect("reads back");
+        assert_eq!(back.check, None);
+    }
+
+    #[test]
     fn replans_are_in_the_summary_with_their_outcome() {
         let mut s = summary(0.9);
         let record = |fallback: Option<&str>| ReplanRecord {
@@ -573,6 +667,7 @@ mod tests {
             old_makespan_s: 39.8,
             new_makespan_s: fallback.is_none().then_some(31.5),
             fallback: fallback.map(String::from),
+            check: None,
         };
         s.replans = vec![
             record(None),

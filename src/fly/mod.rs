@@ -2,9 +2,14 @@
 //! held back at a TPG gate until the events it depends on are seen in telemetry.
 //!
 //! ```text
-//! connect ─► pre-flight (all) ─► arm (all or none) ─► climb to the pad layer
-//!   ─► execute: per drone, follow its route; stop short of a closed gate ─► land
+//! checked plan ─► connect ─► pre-flight (all) ─► arm (all or none) ─► climb to
+//!   the pad layer ─► execute: per drone, follow its route; stop short of a closed
+//!   gate ─► land
 //! ```
+//!
+//! The routes are the checked plan's own trajectories ([`compiled::CheckedPlan`]:
+//! composed once, passed by the independent checker before anything starts), and
+//! every replan's spliced trajectories pass the same checker before they fly.
 //!
 //! The plan clock starts once every drone hovers above its pad. From then on
 //! each drone runs its own rest-to-rest runs (never before their scheduled start,
@@ -31,6 +36,7 @@ pub mod report;
 pub mod settings;
 pub mod splice;
 pub mod tap;
+mod unaccounted;
 pub mod vehicle_limits;
 
 pub use error::FlyError;
@@ -39,12 +45,12 @@ pub use log::{DroneLog, FlightLog, ReplanRecord, Summary};
 pub use observer::{DroneStatus, FlightObserver, FlightStatus};
 pub use placement::FrameSource;
 
+use crate::compiled::{self, CheckedPlan};
 use crate::link::Session;
 use crate::mission::Mission;
 use crate::plan::DiscretePlan;
 use drone::DroneRun;
 use follower::Follower;
-use path::Route;
 use settings::LoopSettings;
 use std::sync::Arc;
 use std::time::Instant;
@@ -53,15 +59,33 @@ pub use options::{FlyOptions, VehicleLink};
 
 mod options;
 
-/// Flies `plan` for `mission`. Returns the flight log whether or not every drone
-/// reached its goal (see `summary.completed`); errors are failures before takeoff.
+/// Flies `plan` for `mission`: composes and checks it ([`compiled::compile_plan`],
+/// refusing before any vehicle is contacted when a limit breaks), then
+/// [`fly_checked`]. Returns the flight log whether or not every drone reached
+/// its goal (see `summary.completed`); errors are failures before takeoff.
 pub async fn fly(
     mission: &Mission,
     plan: &DiscretePlan,
     options: &FlyOptions,
     abort: tokio::sync::watch::Receiver<bool>,
 ) -> Result<FlightLog, FlyError> {
-    let (routes, planned_makespan_s) = routes(mission, plan, options)?;
+    let checked = compiled::compile_plan(mission, plan, 0)?;
+    fly_checked(mission, &checked, options, abort).await
+}
+
+/// Flies `plan` for `mission`: the routes streamed are its trajectories, the
+/// ones the checker passed, gated on its execution graph; a replan in flight is
+/// checked the same way before it flies. Returns the flight log whether or not
+/// every drone reached its goal (see `summary.completed`); errors are failures
+/// before takeoff.
+pub async fn fly_checked(
+    mission: &Mission,
+    plan: &CheckedPlan,
+    options: &FlyOptions,
+    abort: tokio::sync::watch::Receiver<bool>,
+) -> Result<FlightLog, FlyError> {
+    let routes = routes(mission, plan, options)?;
+    let planned_makespan_s = plan.compiled().execution.makespan_s;
     let ids: Vec<String> = routes.iter().map(|r| r.id.clone()).collect();
     let sessions = connect_all(&ids, options).await?;
     let grounds: Vec<[f64; 3]> = routes
@@ -122,7 +146,7 @@ pub async fn fly(
     let replanner = replan::Replanner::new(
         options.replan,
         mission.clone(),
-        plan.clone(),
+        plan.discrete(),
         planned_makespan_s,
         drones.len(),
     );
@@ -144,6 +168,7 @@ pub async fn fly(
         duration_s,
         planned_makespan_s,
         limits: l,
+        check: plan.figures(),
     };
     let summary = report::summary(&flown, &outcome);
     Ok(FlightLog {
@@ -154,21 +179,28 @@ pub async fn fly(
     })
 }
 
-/// Schedules the plan and joins each drone's trajectory with its gated events;
-/// also returns the planned makespan, seconds.
+/// The checked plan's routes, if it was checked for `mission` and there is a
+/// vehicle for each drone.
 fn routes(
     mission: &Mission,
-    plan: &DiscretePlan,
+    plan: &CheckedPlan,
     options: &FlyOptions,
-) -> Result<(Vec<Route>, f64), FlyError> {
-    let scheduled = path::scheduled_routes(mission, plan)?;
-    if options.vehicles.len() != plan.drones.len() {
+) -> Result<Vec<path::Route>, FlyError> {
+    // Checked against another mission's world and limits is not checked.
+    if plan.compiled().mission != mission.name {
+        return Err(FlyError::OtherMission {
+            plan: plan.compiled().mission.clone(),
+            mission: mission.name.clone(),
+        });
+    }
+    let routes = path::routes(plan);
+    if options.vehicles.len() != routes.len() {
         return Err(FlyError::VehicleCount {
-            plan: plan.drones.len(),
+            plan: routes.len(),
             vehicles: options.vehicles.len(),
         });
     }
-    Ok(scheduled)
+    Ok(routes)
 }
 
 /// Opens a session with every vehicle, in plan order.

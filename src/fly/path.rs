@@ -154,23 +154,17 @@ impl Route {
     }
 }
 
-/// Every drone's route for flying `plan` in `mission` as scheduled (plan order),
-/// and the schedule's makespan, seconds.
-pub fn scheduled_routes(
-    mission: &crate::mission::Mission,
-    plan: &crate::plan::DiscretePlan,
-) -> Result<(Vec<Route>, f64), crate::schedule::ScheduleError> {
-    let tpg = crate::schedule::build(mission, plan)?;
-    let timed = crate::schedule::solve(&tpg)?;
-    let trajectories = crate::trajectory::from_schedule(&timed);
-    let execution = crate::schedule::execution_plan(&tpg, &timed);
-    let routes = trajectories
+/// Every drone's route (plan order): the checked plan's trajectories, the very
+/// runs its samples were taken from, joined with its execution graph. Nothing is
+/// scheduled again here: what flies is what was checked.
+pub fn routes(checked: &crate::compiled::CheckedPlan) -> Vec<Route> {
+    checked
+        .trajectories()
         .drones
         .iter()
-        .zip(&execution.drones)
+        .zip(&checked.compiled().execution.drones)
         .map(|(t, e)| Route::new(t, e))
-        .collect();
-    Ok((routes, execution.makespan_s))
+        .collect()
 }
 
 /// Straight-line distance between two ENU points, metres.

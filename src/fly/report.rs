@@ -3,9 +3,10 @@
 
 use super::drone::DroneRun;
 use super::executor::Outcome;
-use super::log::{DroneLog, LastKnown, Summary};
+use super::log::{DroneLog, LastKnown, Summary, Unaccounted};
 use super::options::VehicleLink;
 use super::phase::Phase;
+use crate::compiled::CheckFigures;
 use crate::mission::Limits;
 use mavlink::dialects::common::MavLandedState;
 use std::time::Instant;
@@ -22,6 +23,8 @@ pub struct Flown<'a> {
     pub planned_makespan_s: f64,
     /// The mission's limits (safety distance, speed limit).
     pub limits: &'a Limits,
+    /// What the trajectory checker measured on the plan before arming.
+    pub check: &'a CheckFigures,
 }
 
 /// Each drone's record for the flight log; telemetry times are seconds since `armed_at`.
@@ -89,6 +92,7 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
         fastest: outcome.fastest.clone(),
         duration_s: flown.duration_s,
         planned_makespan_s: flown.planned_makespan_s,
+        check: Some(flown.check.clone()),
         executed_makespan_s: outcome.executed_makespan_s,
         min_separation_m: outcome.min_separation_m,
         closest_pair: outcome.closest_pair.clone(),
@@ -109,6 +113,18 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
             .collect(),
         retired: ids_where(drones, |d| d.retired().is_some()),
         handed_over: ids_where(drones, |d| matches!(d.phase(), Phase::HandedOver { .. })),
+        unaccounted: drones
+            .iter()
+            .filter(|d| !accounted_for(d))
+            .map(|d| Unaccounted {
+                id: d.id().to_string(),
+                phase: d.phase().name().to_string(),
+                reason: match d.phase() {
+                    Phase::Failed(why) => Some(why.to_string()),
+                    _ => None,
+                },
+            })
+            .collect(),
         replans: outcome.replans.clone(),
         worst_tracking: logs
             .iter()
@@ -129,6 +145,20 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
             .filter(|(d, _)| !matches!(d.phase(), Phase::Lost { .. } | Phase::HandedOver { .. }))
             .filter_map(|(_, l)| l.final_distance_to_goal_m)
             .fold(0.0, f64::max),
+    }
+}
+
+/// Whether the flight knows `drone` is on the ground: landed under its plan, or
+/// (given up before that) heard disarmed and on the ground since. A lost drone's
+/// telemetry is stale and a handed-over one is the pilot's: neither is known.
+fn accounted_for(drone: &DroneRun) -> bool {
+    match drone.phase() {
+        Phase::Landed => true,
+        Phase::Lost { .. } | Phase::HandedOver { .. } => false,
+        _ => {
+            let state = drone.session().state();
+            !state.armed && state.on_ground()
+        }
     }
 }
 

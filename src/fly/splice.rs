@@ -1,7 +1,7 @@
 //! The rest of a flight, replanned from where the freeze left the survivors, as
 //! routes the running flight loop can swap in.
 //!
-//! Planning, the independent check, scheduling and the routes are all computed
+//! Planning, the independent checks, scheduling and the routes are all computed
 //! here, off the loop (the caller runs [`plan_splice`] on a blocking thread while
 //! every drone holds). The new plan starts each survivor at the centre of the
 //! voxel it froze in ([`super::freeze`]), so each new route begins with one short
@@ -9,12 +9,20 @@
 //! voxel's stretch the drone holds; every run of the new plan is delayed until
 //! the longest re-centring has ended, so the new schedule begins with everyone
 //! at rest at their starts — the state its safety argument starts from.
+//!
+//! The new plan is composed as every plan is ([`compiled::compose`]), and the
+//! spliced trajectories — re-centring runs, the new plan and each touchdown — go
+//! through the same trajectory checker as the plan flown before arming
+//! ([`compiled::check_flight`]) before any of them flies: a splice that breaks a
+//! limit is refused with the checker's figures, and the flight falls back.
 
 use super::path::Route;
+use crate::compiled::{self, Begin, CheckFigures, Composition};
 use crate::mission::Mission;
 use crate::plan::{self, DiscretePlan, PlanError, PlanOptions};
-use crate::schedule::{self, ScheduleError};
+use crate::schedule::ScheduleError;
 use crate::trajectory::{Profile, Run};
+use crate::verify::CheckError;
 use crate::world::Voxel;
 use std::time::Instant;
 
@@ -62,6 +70,8 @@ pub struct Splice {
     pub makespan_s: f64,
     /// Seconds spent planning, checking and scheduling.
     pub planning_s: f64,
+    /// What the trajectory checker measured on the spliced trajectories.
+    pub check: CheckFigures,
 }
 
 /// Why no new plan could be spliced in.
@@ -76,9 +86,21 @@ pub enum SpliceError {
     /// The plan could not be scheduled.
     #[error("the new plan could not be scheduled: {0}")]
     Schedule(#[from] ScheduleError),
+    /// The trajectory checker could not run on the spliced trajectories.
+    #[error("the trajectory checker could not run on the new plan: {0}")]
+    Check(#[from] CheckError),
+    /// The trajectory checker measured a limit broken on the spliced
+    /// trajectories; its figures go into the flight log.
+    #[error(
+        "the trajectory checker refused the spliced trajectories: {}",
+        .0.violations.join("; ")
+    )]
+    Unsafe(Box<CheckFigures>),
 }
 
-/// Replans, checks with the independent checker, schedules and builds the routes.
+/// Replans, checks the plan with the independent plan validator, composes it,
+/// splices the re-centring runs in, checks the spliced trajectories with the
+/// trajectory checker and builds the routes.
 pub fn plan_splice(input: &SpliceInput) -> Result<Splice, SpliceError> {
     let started = Instant::now();
     let starts: Vec<(&str, Voxel)> = input
@@ -98,10 +120,11 @@ pub fn plan_splice(input: &SpliceInput) -> Result<Splice, SpliceError> {
         let all: Vec<String> = violations.iter().map(ToString::to_string).collect();
         SpliceError::Refused(all.join("; "))
     })?;
-    let tpg = schedule::build(&re.mission, &rest)?;
-    let timed = schedule::solve(&tpg)?;
-    let mut trajectories = crate::trajectory::from_schedule(&timed);
-    let mut execution = schedule::execution_plan(&tpg, &timed);
+    let Composition {
+        mut execution,
+        mut trajectories,
+    } = compiled::compose(&re.mission, &rest)?;
+    let kinematics = re.mission.commanded_limits().kinematics();
     let survivor = |id: &str| input.survivors.iter().find(|s| s.id == id);
     let recentring: Vec<Option<Run>> = trajectories
         .drones
@@ -113,7 +136,7 @@ pub fn plan_splice(input: &SpliceInput) -> Result<Splice, SpliceError> {
                 start_s: 0.0,
                 from_m,
                 to_m: t.start_m,
-                profile: Profile::new(length_m, tpg.kinematics()),
+                profile: Profile::new(length_m, kinematics),
             })
         })
         .collect();
@@ -128,7 +151,6 @@ pub fn plan_splice(input: &SpliceInput) -> Result<Splice, SpliceError> {
         .iter()
         .map(|t| survivor(&t.id).map_or(u32::MAX, |s| s.run_index as u32))
         .collect();
-    let mut routes = Vec::with_capacity(trajectories.drones.len());
     for ((t, e), first) in trajectories
         .drones
         .iter_mut()
@@ -152,27 +174,38 @@ pub fn plan_splice(input: &SpliceInput) -> Result<Splice, SpliceError> {
                     .unwrap_or(u32::MAX);
             }
         }
-        if let Some(s) = survivor(&t.id) {
-            routes.push((s.run_index, Route::new(t, e)));
-        }
     }
+    trajectories.makespan_s += shift_s;
+    // What flies from here is checked first: the re-centring runs, the new plan
+    // and each touchdown, the drones at rest in the air where they froze.
+    let (report, check) = compiled::check_flight(&re.mission, &trajectories, Begin::Airborne)?;
+    if !report.ok() {
+        return Err(SpliceError::Unsafe(Box::new(check)));
+    }
+    let routes = trajectories
+        .drones
+        .iter()
+        .zip(&execution.drones)
+        .filter_map(|(t, e)| survivor(&t.id).map(|s| (s.run_index, Route::new(t, e))))
+        .collect();
     Ok(Splice {
         mission: re.mission,
         plan: rest,
         routes,
         makespan_s: execution.makespan_s + shift_s,
         planning_s: started.elapsed().as_secs_f64(),
+        check,
     })
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// Three drones in one group; `b` (loop index 1) is lost after takeoff at
-    /// (0, 1, 0). `a` froze 0.2 m east of its voxel's centre, `c` at a centre.
-    #[test]
-    fn the_new_routes_start_where_the_freeze_left_the_drones() {
+    /// (0, 1, 0). `a` froze at `a_rest_m` in voxel (0, 0, 0), `c` at the centre of
+    /// (1, 2, 0).
+    pub(crate) fn three_without_b(a_rest_m: [f64; 3]) -> SpliceInput {
         let mission = crate::mission::from_yaml(
             "
 name: three
@@ -186,8 +219,7 @@ groups:
             "three.yaml".as_ref(),
         )
         .expect("mission");
-        let a_rest_m = [0.2, 0.0, 1.5];
-        let input = SpliceInput {
+        SpliceInput {
             mission,
             from_leg: 1,
             survivors: vec![
@@ -206,7 +238,14 @@ groups:
             ],
             lost: vec![Voxel::new(0, 1, 0)],
             options: PlanOptions::default(),
-        };
+        }
+    }
+
+    /// `a` froze 0.2 m east of its voxel's centre, `c` at a centre.
+    #[test]
+    fn the_new_routes_start_where_the_freeze_left_the_drones() {
+        let a_rest_m = [0.2, 0.0, 1.5];
+        let input = three_without_b(a_rest_m);
         let splice = plan_splice(&input).expect("a plan without b");
         assert_eq!(splice.plan.drones.len(), 2);
         let indices: Vec<usize> = splice.routes.iter().map(|(i, _)| *i).collect();
@@ -242,5 +281,37 @@ groups:
         assert!(splice.makespan_s > recentre_s);
         // b's column is an obstacle of the plan flown from here on.
         assert!(!splice.mission.airspace.is_free(Voxel::new(0, 1, -1)));
+        // The spliced trajectories were checked: every survivor, within the limits.
+        assert!(splice.check.passed(), "{}", splice.check.line());
+        assert_eq!(splice.check.drones, 2);
+        assert!(splice.check.min_separation_bound_m >= splice.check.required_separation_m);
+        assert!(splice.check.max_speed_mps <= 1.0 + 1e-9);
+    }
+
+    /// A rest point no freeze would leave — `a` stopped where `c` hovers — makes
+    /// `a`'s re-centring run start inside `c`: the valid new plan is refused by the
+    /// trajectory checker, with figures that say why.
+    #[test]
+    fn spliced_trajectories_that_break_separation_are_refused() {
+        let input = three_without_b([1.0, 2.0, 1.5]);
+        match plan_splice(&input) {
+            Err(SpliceError::Unsafe(figures)) => {
+                assert!(!figures.passed());
+                assert!(figures.min_separation_bound_m < 0.2, "{}", figures.line());
+                assert_eq!(
+                    figures
+                        .closest
+                        .as_ref()
+                        .map(|(a, b, _)| (a.as_str(), b.as_str())),
+                    Some(("a", "c"))
+                );
+                assert!(
+                    figures.violations.iter().any(|v| v.contains("\"a\"")),
+                    "drones named by id: {:?}",
+                    figures.violations
+                );
+            }
+            other => panic!("expected a refusal by the checker, got {other:?}"),
+        }
     }
 }

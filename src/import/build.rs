@@ -37,14 +37,18 @@ pub(crate) fn mission_file(
     }
 }
 
-/// A 1 m voxel world lifted 1 m off the ground.
+/// A 1 m voxel world lifted 1 m off the ground, its formations kept in the world's
+/// own voxels: an imported instance is planned as exactly that instance (a 2D map is
+/// one layer), so its makespan compares with the published solvers'. The pads below
+/// and the takeoff and landing legs through them are swarmctl's own, reported apart.
 pub(crate) fn world_spec(dimensions: [i64; 3], obstacles: Vec<ObstacleSpec>) -> WorldSpec {
     WorldSpec {
         dimensions,
         voxel_size_m: 1.0,
-        origin_m: [0.0, 0.0, 1.0],
+        origin_m: Some([0.0, 0.0, 1.0]),
         pad_height_m: None,
         geo_origin: None,
         obstacles,
+        formations_use_pad_layer: false,
     }
 }

@@ -9,7 +9,7 @@ mod libmrp;
 mod movingai;
 mod movingai3d;
 
-use crate::mission::{Mission, MissionError};
+use crate::mission::{Mission, MissionError, MissionFile};
 use std::path::Path;
 
 pub use build::default_limits;
@@ -60,13 +60,45 @@ pub fn load_any(path: &Path, agents: Option<usize>) -> Result<Mission, ImportErr
             ),
         ));
     }
-    let file = match detect_format(path, &text) {
-        Format::Mission => return Ok(crate::mission::from_yaml(&text, path)?),
-        Format::LibMultiRobotPlanning => parse_libmrp(&text, path)?,
-        Format::MovingAiScen => movingai::load_scenario(path, &text, agents)?,
-        Format::MovingAi3dScen => movingai3d::load_scenario(path, &text, agents)?,
-    };
-    crate::mission::validate(&file).map_err(|problems| {
+    match detect_format(path, &text) {
+        Format::Mission => Ok(crate::mission::from_yaml(&text, path)?),
+        format => validated(path, &instance_from_text(path, &text, format, agents)?),
+    }
+}
+
+/// The mission file an instance (not a mission) becomes, before validation: to
+/// write out, or to change (e.g. to make its agents one team) before validating.
+pub fn instance_file(path: &Path, agents: Option<usize>) -> Result<MissionFile, ImportError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ImportError::Read {
+        file: path.to_path_buf(),
+        named_by: None,
+        source,
+    })?;
+    instance_from_text(path, &text, detect_format(path, &text), agents)
+}
+
+/// `text` (read from `path`) in `format` as a mission file.
+fn instance_from_text(
+    path: &Path,
+    text: &str,
+    format: Format,
+    agents: Option<usize>,
+) -> Result<MissionFile, ImportError> {
+    match format {
+        Format::Mission => Err(ImportError::format(
+            path,
+            None,
+            "this is a mission file already, not a community instance",
+        )),
+        Format::LibMultiRobotPlanning => parse_libmrp(text, path),
+        Format::MovingAiScen => movingai::load_scenario(path, text, agents),
+        Format::MovingAi3dScen => movingai3d::load_scenario(path, text, agents),
+    }
+}
+
+/// `file` (read from `path`) validated, its problems reported against `path`.
+fn validated(path: &Path, file: &MissionFile) -> Result<Mission, ImportError> {
+    crate::mission::validate(file).map_err(|problems| {
         ImportError::Mission(MissionError::Invalid {
             file: path.to_path_buf(),
             problems,

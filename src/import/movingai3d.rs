@@ -125,7 +125,7 @@ pub(crate) fn load_scenario(
             goals: vec![goal],
         })
         .collect();
-    let obstacles = blocked.into_iter().map(ObstacleSpec::Cell).collect();
+    let obstacles = ObstacleSpec::exactly(&blocked);
     let stem = path
         .file_stem()
         .map_or_else(String::new, |s| s.to_string_lossy().into_owned());

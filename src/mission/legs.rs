@@ -62,6 +62,9 @@ pub struct Leg {
     pub hold_s: f64,
     /// Per group, in mission order.
     pub targets: Vec<Targets>,
+    /// Whether the leg may pass through the pad layer (`z = -1`): takeoff and
+    /// landing always; formations and stages when `world.formations_use_pad_layer`.
+    pub pad_layer_open: bool,
 }
 
 impl Mission {
@@ -74,6 +77,7 @@ impl Mission {
             name: "takeoff".into(),
             kind: LegKind::Takeoff,
             hold_s: 0.0,
+            pad_layer_open: true,
             targets: self
                 .groups
                 .iter()
@@ -88,6 +92,7 @@ impl Mission {
                 name: "formation".into(),
                 kind: LegKind::Formation,
                 hold_s: 0.0,
+                pad_layer_open: self.formations_use_pad_layer,
                 targets: self
                     .groups
                     .iter()
@@ -106,6 +111,7 @@ impl Mission {
                 name: stage.name.clone(),
                 kind: LegKind::Stage,
                 hold_s: stage.hold_s,
+                pad_layer_open: self.formations_use_pad_layer,
                 targets: stage
                     .goals
                     .iter()
@@ -122,6 +128,7 @@ impl Mission {
             name: "landing".into(),
             kind: LegKind::Landing,
             hold_s: 0.0,
+            pad_layer_open: true,
             targets: self
                 .groups
                 .iter()

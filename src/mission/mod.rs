@@ -1,5 +1,6 @@
 //! Mission files: the schema users write, its validation and a commented template.
 
+mod contest;
 mod error;
 mod legs;
 mod load;
@@ -10,6 +11,7 @@ mod types;
 mod validate;
 mod write;
 
+pub use contest::{Contest, contested};
 pub use error::{MissionError, Problem};
 pub use legs::{Leg, LegKind, Targets};
 pub use load::{from_yaml, load, parse_yaml};

@@ -85,8 +85,9 @@ pub struct WorldSpec {
     pub voxel_size_m: f64,
     /// ENU position of the centre of voxel [0, 0, 0], metres; z is the height of
     /// layer 0 above the ground the pads stand on. The pad layer sits below layer 0.
-    #[serde(default)]
-    pub origin_m: [f64; 3],
+    /// By default `[0, 0, voxel_size_m + 0.5]` (see [`WorldSpec::origin_or_default_m`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub origin_m: Option<[f64; 3]>,
     /// Height of the pad layer above the ground, metres: where drones hover over
     /// their pads after takeoff and before touchdown. By default one voxel below
     /// layer 0 when that leaves at least 0.5 m above ground, else half of layer 0's
@@ -99,12 +100,55 @@ pub struct WorldSpec {
     /// wrong pad; without it, each vehicle is taken to stand on its pad.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geo_origin: Option<Geodetic>,
-    /// Voxels no drone may enter; none by default.
+    /// Voxels no drone may enter; none by default. An obstacle stands on the
+    /// ground: it also blocks every voxel below it down to, and including, the pad
+    /// layer, unless it is a box written with `overhead: true`.
     #[serde(default)]
     pub obstacles: Vec<ObstacleSpec>,
+    /// Whether formation and stage legs may pass through the pad layer's free cells
+    /// (true by default: it is airspace like any other). False keeps them in the
+    /// world's own voxels, so a formation leg is exactly the instance the world
+    /// describes (imported community instances set it); takeoff and landing still
+    /// cross the pad layer.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub formations_use_pad_layer: bool,
+}
+
+/// Layer 0 stands this far above the pad layer's default hover height when the
+/// mission does not place the world: the pad layer one voxel below layer 0, half a
+/// metre off the ground.
+pub const DEFAULT_PAD_HOVER_M: f64 = 0.5;
+
+impl WorldSpec {
+    /// `origin_m` as written, or by default `[0, 0, voxel_size_m + 0.5]`: layer 0
+    /// one voxel above a pad layer that hovers [`DEFAULT_PAD_HOVER_M`] off the
+    /// ground, which leaves the pad layer a whole voxel of room below layer 0 for
+    /// any safety distance that fits the voxel size.
+    pub fn origin_or_default_m(&self) -> [f64; 3] {
+        self.origin_m
+            .unwrap_or([0.0, 0.0, self.voxel_size_m + DEFAULT_PAD_HOVER_M])
+    }
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(value: &bool) -> bool {
+    *value
+}
+
+fn is_false(value: &bool) -> bool {
+    !*value
 }
 
 /// One blocked voxel, or an inclusive box of them.
+///
+/// Obstacles stand on the ground (walls, buildings, trees): each blocks its voxels
+/// and every voxel below them, the pad layer included, so no drone passes under
+/// it. A box written with `overhead: true` blocks only its own voxels (a bridge, a
+/// gate's lintel, a canopy). An obstacle may also lie in the pad layer (`z = -1`),
+/// there anywhere in the launch area beside the world (see the README's world model).
 ///
 /// Deserialised by hand rather than `#[serde(untagged)]`, which would hide the index
 /// of the bad entry and the reason it was rejected.
@@ -147,6 +191,39 @@ impl<'de> Deserialize<'de> for ObstacleSpec {
     }
 }
 
+impl ObstacleSpec {
+    /// The obstacles that block exactly the voxels `blocked` and nothing below them
+    /// that is free: a voxel with obstacles all the way down to layer 0 stands on
+    /// the ground (and so also blocks the pad layer under it), any other is written
+    /// `overhead`. How a generated or imported world is written so that the mission
+    /// means the world it came from.
+    ///
+    /// ```
+    /// use swarmctl::mission::schema::ObstacleSpec;
+    /// // A post on the ground, and a voxel floating two layers up.
+    /// let specs = ObstacleSpec::exactly(&[[0, 0, 0], [1, 0, 2]]);
+    /// assert_eq!(specs[0], ObstacleSpec::Cell([0, 0, 0]));
+    /// assert!(matches!(&specs[1], ObstacleSpec::Box(b) if b.overhead));
+    /// ```
+    pub fn exactly(blocked: &[RawVoxel]) -> Vec<ObstacleSpec> {
+        let set: std::collections::HashSet<RawVoxel> = blocked.iter().copied().collect();
+        blocked
+            .iter()
+            .map(|&[x, y, z]| {
+                if (0..z).all(|below| set.contains(&[x, y, below])) {
+                    ObstacleSpec::Cell([x, y, z])
+                } else {
+                    ObstacleSpec::Box(BoxSpec {
+                        min: [x, y, z],
+                        max: [x, y, z],
+                        overhead: true,
+                    })
+                }
+            })
+            .collect()
+    }
+}
+
 /// A point on Earth: WGS84 latitude and longitude, altitude above mean sea level.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -167,6 +244,10 @@ pub struct BoxSpec {
     pub min: RawVoxel,
     /// The corner with the largest coordinates, itself blocked; nowhere below `min`.
     pub max: RawVoxel,
+    /// True for an obstacle that leaves the space below it free (a bridge, a lintel,
+    /// a canopy); by default an obstacle stands on the ground.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub overhead: bool,
 }
 
 /// Kinematic and safety limits as written; every one must be positive.

@@ -12,12 +12,17 @@ pub struct Mission {
     pub name: String,
     /// Free text from the file, carried along for people.
     pub description: Option<String>,
-    /// The voxel world with its obstacles blocked, as written (`0..dimensions`).
+    /// The voxel world with its obstacles blocked (`0..dimensions`): each obstacle
+    /// down to layer 0 unless it is overhead (see [`super::schema::ObstacleSpec`]).
     pub world: VoxelGrid,
     /// Where the drones fly, pad to pad: the world, the pad layer below it (`z = -1`,
     /// its centres at the pads' hover height) reaching sideways over every pad, in the
-    /// world's own coordinates. The planner and everything after it work in this grid.
+    /// world's own coordinates, blocked under every obstacle that stands on the
+    /// ground. The planner and everything after it work in this grid.
     pub airspace: VoxelGrid,
+    /// Whether formation and stage legs may pass through the pad layer
+    /// (`world.formations_use_pad_layer`); takeoff and landing always cross it.
+    pub formations_use_pad_layer: bool,
     /// Kinematic and safety limits every trajectory keeps.
     pub limits: Limits,
     /// Where the mission's ENU origin is on Earth, if the mission says.

@@ -32,7 +32,12 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
     writeln!(out, "world:")?;
     writeln!(out, "  dimensions: {}", voxel(world.dimensions))?;
     writeln!(out, "  voxel_size_m: {:?}", world.voxel_size_m)?;
-    writeln!(out, "  origin_m: {:?}", world.origin_m)?;
+    if let Some(origin_m) = world.origin_m {
+        writeln!(out, "  origin_m: {origin_m:?}")?;
+    }
+    if !world.formations_use_pad_layer {
+        writeln!(out, "  formations_use_pad_layer: false")?;
+    }
     if let Some(h) = world.pad_height_m {
         writeln!(out, "  pad_height_m: {h:?}")?;
     }
@@ -52,9 +57,10 @@ fn write_mission(out: &mut String, file: &MissionFile) -> std::fmt::Result {
                 ObstacleSpec::Cell(v) => writeln!(out, "    - {}", voxel(*v))?,
                 ObstacleSpec::Box(b) => writeln!(
                     out,
-                    "    - {{ min: {}, max: {} }}",
+                    "    - {{ min: {}, max: {}{} }}",
                     voxel(b.min),
-                    voxel(b.max)
+                    voxel(b.max),
+                    if b.overhead { ", overhead: true" } else { "" }
                 )?,
             }
         }

@@ -1,5 +1,6 @@
 //! Why the planner returned no plan.
 
+use crate::world::Voxel;
 use std::time::Duration;
 
 /// Why no plan was returned.
@@ -38,6 +39,23 @@ pub enum PlanError {
         /// How many arrangements of them the proof searched.
         arrangements: u64,
     },
+    /// The named groups or drones compete for voxels their targets share and there
+    /// are too few for all of them: no arrangement puts every drone on a target of
+    /// its own, so no search is run (see [`crate::mission::contested`]).
+    #[error(
+        "no plan exists: {} cannot all end on targets of their own: {} (a goal of one is where another must be: its start, a spare's hold, or where it stays)",
+        .who.join(" and "),
+        contest_text(.voxels, *.stacked)
+    )]
+    Contested {
+        /// The groups or drones that compete, by name.
+        who: Vec<String>,
+        /// The voxels they compete for.
+        voxels: Vec<Voxel>,
+        /// The two voxels must both be taken but are stacked within the ellipsoid's
+        /// vertical reach; otherwise there are too few of them.
+        stacked: bool,
+    },
     /// Every branch of the conflict tree was closed: the instance has no plan.
     #[error("the conflict tree was exhausted without a plan")]
     NoSolution,
@@ -60,4 +78,29 @@ pub enum PlanError {
     /// A planner invariant broke; a bug, reported instead of panicking.
     #[error("internal planner error: {0}")]
     Internal(&'static str),
+}
+
+/// What the contest is about, for [`PlanError::Contested`].
+fn contest_text(voxels: &[Voxel], stacked: bool) -> String {
+    if stacked {
+        format!(
+            "they must take {} at once, stacked within the separation's vertical reach",
+            voxel_list(voxels)
+        )
+    } else {
+        format!(
+            "they compete for {} and there are too few of those for them",
+            voxel_list(voxels)
+        )
+    }
+}
+
+/// Voxels for a message: the first few, and how many more.
+fn voxel_list(voxels: &[Voxel]) -> String {
+    const SHOWN: usize = 6;
+    let mut text: Vec<String> = voxels.iter().take(SHOWN).map(ToString::to_string).collect();
+    if voxels.len() > SHOWN {
+        text.push(format!("and {} more", voxels.len() - SHOWN));
+    }
+    text.join(", ")
 }

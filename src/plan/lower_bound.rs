@@ -5,8 +5,10 @@ use crate::mission::Mission;
 use crate::world::{UNREACHABLE, Voxel, VoxelGrid};
 use std::collections::VecDeque;
 
-/// The least makespan the first formation (starts to goals, in the mission's world,
-/// without pads) can have, in steps: what the TAPF core is measured against.
+/// The least makespan the first formation (starts to goals) can have, in steps:
+/// what the TAPF core is measured against. Measured where the formation leg is
+/// planned: the airspace, or the world's own voxels when the mission keeps
+/// formations out of the pad layer.
 ///
 /// Per group, the bottleneck assignment: the smallest `T` such that every drone can be
 /// given a distinct goal at most `T` moves away (BFS distance, other drones ignored).
@@ -26,10 +28,17 @@ use std::collections::VecDeque;
 /// assert_eq!(plan::makespan_lower_bound(&m), Some(3));
 /// ```
 pub fn makespan_lower_bound(mission: &Mission) -> Option<u32> {
+    let world_only;
+    let grid = if mission.formations_use_pad_layer {
+        &mission.airspace
+    } else {
+        world_only = mission.airspace.without_pad_layer();
+        &world_only
+    };
     mission.groups.iter().try_fold(0, |acc, g| {
         let starts: Option<Vec<Voxel>> = g.drones.iter().map(|d| d.start).collect();
         let targets = g.formation_targets(&g.goals);
-        group_lower_bound(&mission.world, &starts?, &targets).map(|lb| acc.max(lb))
+        group_lower_bound(grid, &starts?, &targets).map(|lb| acc.max(lb))
     })
 }
 

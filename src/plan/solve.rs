@@ -9,7 +9,7 @@ use super::network::GroupCells;
 use super::options::PlanOptions;
 use super::space::Space;
 use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
-use crate::mission::{Mission, Targets};
+use crate::mission::{Mission, Targets, contested};
 use crate::world::{Voxel, VoxelGrid};
 use std::time::Instant;
 
@@ -96,8 +96,15 @@ pub(super) fn solve_from(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Solution, PlanError> {
     let started = Instant::now();
-    let grid = &mission.airspace;
-    let space = Space::with_reach(grid, options.seed, mission.limits.vertical_reach(grid));
+    let airspace = &mission.airspace;
+    let space = Space::with_reach(
+        airspace,
+        options.seed,
+        mission.limits.vertical_reach(airspace),
+    );
+    // Legs that keep out of the pad layer (formations of an imported instance) are
+    // planned in the world's own voxels: the airspace with the pad layer blocked.
+    let mut world_only: Option<(VoxelGrid, Space)> = None;
     let mut paths: Vec<Vec<Vec<Voxel>>> = at
         .iter()
         .map(|g| g.iter().map(|&v| vec![v]).collect())
@@ -117,8 +124,19 @@ pub(super) fn solve_from(
                 ..p.clone()
             });
         };
+        let (grid, space) = if leg.pad_layer_open {
+            (airspace, &space)
+        } else {
+            let (grid, space) = world_only.get_or_insert_with(|| {
+                let grid = airspace.without_pad_layer();
+                let reach = mission.limits.vertical_reach(&grid);
+                let space = Space::with_reach(&grid, options.seed, reach);
+                (grid, space)
+            });
+            (&*grid, &*space)
+        };
         let solved =
-            solve_in_space(grid, &space, &tapf, &leg_options, &mut in_leg).map_err(|e| {
+            solve_in_space(grid, space, &tapf, &leg_options, &mut in_leg).map_err(|e| {
                 PlanError::Leg {
                     leg: leg.name.clone(),
                     reason: Box::new(named(e, mission, &owners)),
@@ -232,6 +250,15 @@ fn named(e: PlanError, mission: &Mission, owners: &[(usize, Option<usize>)]) -> 
             arrangements,
         },
         PlanError::Unreachable(who) => PlanError::Unreachable(name(&who)),
+        PlanError::Contested {
+            who,
+            voxels,
+            stacked,
+        } => PlanError::Contested {
+            who: who.iter().map(|w| name(w)).collect(),
+            voxels,
+            stacked,
+        },
         other => other,
     }
 }
@@ -272,6 +299,38 @@ fn solve_in_space(
 ) -> Result<TapfSolution, PlanError> {
     let started = Instant::now();
     let compact = |v| grid.cell(v).map(|c| space.compact(c));
+    // A target that is blocked is no target: a replan blocks a lost drone's
+    // column, which may hold another drone's pad (any of the group's others
+    // may still do; too few left is reported below).
+    let free_goals: Vec<Vec<Voxel>> = groups
+        .iter()
+        .map(|g| {
+            g.goals
+                .iter()
+                .copied()
+                .filter(|&v| grid.is_free(v))
+                .collect()
+        })
+        .collect();
+    // Groups whose targets overlap may need more of them than there are, or must
+    // take two stacked under an ellipsoid: no search places them, however long it
+    // runs, so say so now.
+    let demands: Vec<(usize, &[Voxel])> = groups
+        .iter()
+        .zip(&free_goals)
+        .map(|(g, goals)| (g.starts.len(), &goals[..]))
+        .collect();
+    let stacked = |a: Voxel, b: Voxel| match (compact(a), compact(b)) {
+        (Some(a), Some(b)) => space.stacked(a).contains(&b),
+        _ => false,
+    };
+    if let Some(contest) = contested(&demands, &stacked) {
+        return Err(PlanError::Contested {
+            who: contest.demands.iter().map(|i| format!("#{i}")).collect(),
+            voxels: contest.voxels,
+            stacked: contest.stacked,
+        });
+    }
     let mut cells = Vec::with_capacity(groups.len());
     let mut lower_bounds = Vec::with_capacity(groups.len());
     let mut throttle = Throttle::new();
@@ -290,21 +349,13 @@ fn solve_in_space(
             });
         }
         let starts: Option<Vec<u32>> = g.starts.iter().map(|&v| compact(v)).collect();
-        // A target that is blocked is no target: a replan blocks a lost drone's
-        // column, which may hold another drone's pad (any of the group's others
-        // may still do; too few left is reported below).
-        let free_goals: Vec<Voxel> = g
-            .goals
-            .iter()
-            .copied()
-            .filter(|&v| grid.is_free(v))
-            .collect();
+        let free_goals = &free_goals[gi];
         let goals: Option<Vec<u32>> = free_goals.iter().map(|&v| compact(v)).collect();
         let unreachable = || PlanError::Unreachable(format!("#{gi}"));
         let (Some(starts), Some(goals)) = (starts, goals) else {
             return Err(unreachable());
         };
-        let lb = group_lower_bound(grid, &g.starts, &free_goals).ok_or_else(unreachable)?;
+        let lb = group_lower_bound(grid, &g.starts, free_goals).ok_or_else(unreachable)?;
         lower_bounds.push(lb);
         cells.push(GroupCells::new(space, starts, &goals));
     }

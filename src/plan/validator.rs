@@ -79,6 +79,21 @@ pub enum PlanViolation {
         /// What the leg asks, in words.
         expected: String,
     },
+    /// A formation or stage leg through the pad layer, where the mission keeps
+    /// them in the world's own voxels (`world.formations_use_pad_layer: false`).
+    #[error(
+        "drone {id:?}: leg {leg:?} passes through the pad layer at step {step} ({voxel}), but the mission keeps formations in the world's voxels"
+    )]
+    InPadLayer {
+        /// The drone.
+        id: String,
+        /// The leg.
+        leg: String,
+        /// The first step in the pad layer.
+        step: usize,
+        /// Where the path is then.
+        voxel: Voxel,
+    },
     /// A path that does not end where the plan says it does (`goal`).
     #[error("drone {id:?}: path ends at {found}, not at its goal {goal}")]
     MissesGoal {
@@ -414,6 +429,19 @@ fn legs(
                     found,
                     expected,
                 });
+            }
+            if !w.pad_layer_open {
+                // The pad layer is z = -1 (below voxel layer 0), whatever the grid.
+                let low = (previous_end..=end)
+                    .find_map(|step| d.path.get(step).filter(|v| v.z < 0).map(|&v| (step, v)));
+                if let Some((step, voxel)) = low {
+                    violations.push(PlanViolation::InPadLayer {
+                        id: d.id.clone(),
+                        leg: p.name.clone(),
+                        step,
+                        voxel,
+                    });
+                }
             }
         }
         previous_end = end;

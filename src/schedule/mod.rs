@@ -78,8 +78,10 @@
 //! **Holds.** A stage with a hold adds, for every pair of drones `(A, B)` (`A = B`
 //! included), an edge from `A`'s rest at the stage's formation to `B`'s, delayed by
 //! the hold: nobody leaves before the whole swarm has been in formation that long.
-//! These edges only delay departures, so they never weaken the argument above, and
-//! they keep the STN a set of difference constraints.
+//! A drone that never leaves its formation cell (its last) gets no such edge: it
+//! has no departure to delay. A drone still at its start holds the formation from
+//! time zero. These edges only delay departures, so they never weaken the argument
+//! above, and they keep the STN a set of difference constraints.
 //!
 //! **Tracking error.** Everything above is about *setpoints*, the points the drones
 //! are commanded to be at. Real vehicles are not exactly there: the mission trusts each
@@ -115,8 +117,11 @@
 //! every point of the move holds an end, and a drone holding only the far end is
 //! within `σ` of it. So two drones less than `V'` apart vertically hold cells of `c`
 //! whose centres are less than `V' + 2σ` apart — the *vertical reach*
-//! ([`crate::world::VerticalReach`]). For `V' ≤ c` the reach relates no two distinct
-//! cells and the argument is the sphere's with `H'` across and `V'` along the column.
+//! ([`crate::world::VerticalReach`]). Cells exactly `V'` apart are related as well:
+//! setpoints that far apart are separated with nothing to spare, which the trajectory
+//! checker cannot confirm for drones in motion. For `V' < c` the reach relates no two
+//! distinct cells and the argument is the sphere's with `H'` across and `V'` along the
+//! column.
 //!
 //! *Holding the reach.* The planner never puts two drones in cells of one column
 //! within the reach at one step (a conflict it branches on like a vertex conflict,

@@ -229,7 +229,9 @@ impl Layout {
         let mut split_any = false;
         for e in &tpg.cross_edges {
             let (from_tp, _) = self.reach(tpg, e.from.drone, e.from.index);
-            let (to_tp, _) = self.leave(tpg, e.to.drone, e.to.index);
+            let Some((to_tp, _)) = self.leave(tpg, e.to.drone, e.to.index) else {
+                continue;
+            };
             let c = component[to_tp as usize];
             let target = &mut rest[e.to.drone as usize][e.to.index as usize];
             if c != u32::MAX && component[from_tp as usize] == c && !*target {
@@ -244,9 +246,18 @@ impl Layout {
         self.base[drone as usize] + seg
     }
 
-    /// Where the drone reaches event `i`: at its offset in the segment containing it, or
-    /// at the end of the segment it ends.
+    /// Where the drone reaches event `i`: its start at time zero, any other event at
+    /// its offset in the segment containing it, or at the end of the segment it ends.
+    ///
+    /// The start is where the drone rests from the outset, however late its first
+    /// run begins. A stage's hold edge may start from it (a drone that holds the
+    /// formation without having moved, such as a spare above its pad); anchored at
+    /// the start of its first run instead, the hold edge from that drone to itself
+    /// was a positive cycle, and for a drone that never moves there is no run at all.
     fn reach(&self, tpg: &Tpg, drone: u32, i: u32) -> Anchor {
+        if i == 0 {
+            return (ORIGIN, 0.0);
+        }
         let seg = self.segment_of[drone as usize][i as usize];
         let (first, last) = self.bounds[drone as usize][seg as usize];
         let profile = &self.profiles[drone as usize][seg as usize];
@@ -261,10 +272,14 @@ impl Layout {
         (self.timepoint(drone, seg), self.offset(tpg, drone, seg, i))
     }
 
-    /// Where the drone moves on past event `i`.
-    fn leave(&self, tpg: &Tpg, drone: u32, i: u32) -> Anchor {
+    /// Where the drone moves on past event `i`; `None` for a drone that never moves
+    /// (it has no run to delay, so nothing it waits for constrains it).
+    fn leave(&self, tpg: &Tpg, drone: u32, i: u32) -> Option<Anchor> {
+        if self.bounds[drone as usize].is_empty() {
+            return None;
+        }
         let seg = self.segment_of[drone as usize][i as usize];
-        (self.timepoint(drone, seg), self.offset(tpg, drone, seg, i))
+        Some((self.timepoint(drone, seg), self.offset(tpg, drone, seg, i)))
     }
 
     fn offset(&self, tpg: &Tpg, drone: u32, seg: u32, i: u32) -> f64 {
@@ -296,7 +311,9 @@ impl Layout {
         stn.add(ORIGIN, END, 0.0, inf);
         for e in &tpg.cross_edges {
             let (from_tp, from_off) = self.reach(tpg, e.from.drone, e.from.index);
-            let (to_tp, to_off) = self.leave(tpg, e.to.drone, e.to.index);
+            let Some((to_tp, to_off)) = self.leave(tpg, e.to.drone, e.to.index) else {
+                continue;
+            };
             stn.add(from_tp, to_tp, from_off - to_off + e.delay_s, inf);
         }
         stn
@@ -348,7 +365,7 @@ impl Layout {
                         let leave = if i + 1 == n {
                             self.reach(tpg, d32, i)
                         } else {
-                            self.leave(tpg, d32, i)
+                            self.leave(tpg, d32, i).unwrap_or((ORIGIN, 0.0))
                         };
                         let reach_s = if i == 0 {
                             0.0

@@ -200,6 +200,43 @@ impl Trajectories {
     }
 }
 
+impl Trajectories {
+    /// The rest of a flight from where the drones are, down to the ground: every
+    /// drone flies its trajectory and, once at rest for good, descends straight to
+    /// the ground below, as in [`Trajectories::pad_to_pad`] but with no climb
+    /// first. A replan spliced in flight starts with every drone airborne and at
+    /// rest; this is what the independent checker measures of it.
+    pub fn to_ground(&self, limits: Kinematics) -> Trajectories {
+        let drones: Vec<DroneTrajectory> = self
+            .drones
+            .iter()
+            .map(|d| {
+                let end_m = d.runs.last().map_or(d.start_m, |r| r.to_m);
+                let mut runs = d.runs.clone();
+                let ground_m = [end_m[0], end_m[1], 0.0];
+                runs.push(Run {
+                    start_s: d.arrival_s(),
+                    from_m: end_m,
+                    to_m: ground_m,
+                    profile: Profile::new(end_m[2].abs(), limits),
+                });
+                DroneTrajectory {
+                    id: d.id.clone(),
+                    start_m: d.start_m,
+                    runs,
+                }
+            })
+            .collect();
+        Trajectories {
+            makespan_s: drones
+                .iter()
+                .map(DroneTrajectory::arrival_s)
+                .fold(0.0, f64::max),
+            drones,
+        }
+    }
+}
+
 /// Number of samples covering `[0, makespan_s]` at `rate_hz`.
 fn sample_count(makespan_s: f64, rate_hz: f64) -> usize {
     // Tolerance so that a makespan that is a whole number of periods gets no extra sample.

@@ -86,6 +86,18 @@ impl VoxelGrid {
         grid
     }
 
+    /// This grid with every cell of its pad layer blocked (unchanged when it has
+    /// none): the world's own voxels, where a leg that keeps out of the pad layer
+    /// is planned and checked.
+    pub fn without_pad_layer(&self) -> VoxelGrid {
+        let mut grid = self.clone();
+        if grid.pad_layer_z_m.is_some() {
+            let plane = grid.dimensions[0] as usize * grid.dimensions[1] as usize;
+            grid.blocked[..plane].fill(true);
+        }
+        grid
+    }
+
     /// The voxel with the smallest coordinates (`[0, 0, 0]` for a mission's world).
     pub fn min_voxel(&self) -> Voxel {
         Voxel::from(self.min)

@@ -58,7 +58,8 @@ impl Separation {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VerticalReach {
     /// Two distinct cells of one column are related when their centres are closer
-    /// than this, metres (0 for a sphere: no two distinct cells are).
+    /// than this, metres (0 for a sphere: no two distinct cells are), or no further
+    /// apart than `V'` (see [`VerticalReach::related`]).
     pub reach_m: f64,
     /// The markers' distance from each end of a vertical move, metres (for an
     /// ellipsoid; a sphere keeps `(length − d) / 2` on every move).
@@ -75,7 +76,8 @@ impl VerticalReach {
     /// The reach of setpoint radii `setpoint` in `airspace` (voxel size `s`, and the
     /// pad layer's gap `g` below layer 0 when it has one): markers at
     /// `σ = max(0, (min(s, g) − V') / 2)` from each end of every vertical move, and
-    /// cells related when their centres are closer than `V' + 2σ`.
+    /// cells related when their centres are closer than `V' + 2σ` (or exactly `V'`
+    /// apart).
     pub fn new(airspace: &VoxelGrid, setpoint: Separation) -> Self {
         let spacing_m = vertical_spacing_m(airspace);
         let marker_m = (0.5 * (spacing_m - setpoint.vertical_m)).max(0.0);
@@ -88,16 +90,31 @@ impl VerticalReach {
     /// Whether two *distinct* drones may not hold `a` and `b` at the same time
     /// because of the vertical reach (same column, centres closer than the reach).
     /// A cell is never related to itself here: that is an ordinary vertex conflict.
+    ///
+    /// Centres exactly `V'` apart are related too. Setpoints that far apart one
+    /// above the other are on the boundary of each other's cylinder: separated, but
+    /// with nothing to spare, and two drones passing so (one at a pad-layer cell `V'`
+    /// below a layer-0 cell the other flies through) would fail the trajectory
+    /// checker, which charges moving drones for straying from their chords. Only
+    /// when `σ = 0` can centres be that close without being closer than the reach.
     pub fn related(&self, airspace: &VoxelGrid, a: Voxel, b: Voxel) -> bool {
+        let apart_m = (airspace.center_m(a).z - airspace.center_m(b).z).abs();
         a != b
             && a.x == b.x
             && a.y == b.y
-            && (airspace.center_m(a).z - airspace.center_m(b).z).abs() < self.reach_m - 1e-9
+            && (apart_m < self.reach_m - 1e-9 || apart_m <= self.vertical_setpoint_m() + 1e-9)
+    }
+
+    /// `V'`: the vertical radius of the setpoints' cylinder, from the reach and the
+    /// markers (`reach = V' + 2σ`).
+    fn vertical_setpoint_m(&self) -> f64 {
+        self.reach_m - 2.0 * self.vertical_marker_m
     }
 
     /// Whether any two distinct cells are related at all.
     pub fn is_trivial(&self, airspace: &VoxelGrid) -> bool {
-        self.reach_m <= vertical_spacing_m(airspace) + 1e-9
+        let spacing_m = vertical_spacing_m(airspace);
+        self.reach_m <= spacing_m + 1e-9 && self.vertical_setpoint_m() < spacing_m - 1e-9
     }
 
     /// The cells of `airspace` related to `v` (free or not), nearest first.

@@ -196,7 +196,10 @@ fn deadline_error_names_the_lower_bound() {
 }
 
 /// `swarmctl fly --plan` refuses a plan file that does not fit the mission, names
-/// the file and the problem, and starts nothing (no simulator, no flight log).
+/// the file and the problem, and starts nothing (no simulator, no flight log):
+/// a teleporting path, a truncated file, a path through the corridor's floor (the
+/// plan validator) and a trajectory sample moved by hand (the file no longer holds
+/// what its plan composes to, so what was checked would not be what flies).
 #[test]
 fn fly_refuses_a_broken_plan_before_starting_anything() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -219,8 +222,39 @@ fn fly_refuses_a_broken_plan_before_starting_anything() {
     let truncated = dir.path().join("truncated-plan.json");
     let text = std::fs::read_to_string(&good).expect("plan");
     std::fs::write(&truncated, &text[..text.len() / 2]).expect("write");
+    let original: serde_json::Value = serde_json::from_str(&text).expect("json");
 
-    for (plan, expected) in [(&broken, "jumps from"), (&truncated, "is not valid JSON")] {
+    // Drone "a" dips into the corridor's floor (rock at z = 0 for x = 1..=5)
+    // where it flies along the corridor.
+    let mut json = original.clone();
+    let path = json["drones"][0]["path"].as_array_mut().expect("path");
+    let step = path
+        .iter()
+        .position(|v| v[2] == 1 && (1..=5).contains(&v[0].as_i64().expect("x")))
+        .expect("a flies along the corridor");
+    path[step][2] = serde_json::json!(0);
+    let through_rock = dir.path().join("through-rock-plan.json");
+    std::fs::write(&through_rock, serde_json::to_string(&json).expect("json")).expect("write");
+
+    // One trajectory sample of drone "a" moved 0.3 m north, nothing else changed.
+    let mut json = original;
+    let samples = json["drones"][0]["trajectory"]
+        .as_array_mut()
+        .expect("trajectory");
+    let k = samples.len() / 2;
+    let y_m = samples[k][2].as_f64().expect("y");
+    samples[k][2] = serde_json::json!(y_m + 0.3);
+    let moved = dir.path().join("moved-sample-plan.json");
+    std::fs::write(&moved, serde_json::to_string(&json).expect("json")).expect("write");
+    let moved_field = format!("drones[0].trajectory[{k}][2]");
+
+    for (plan, expected) in [
+        (&broken, "jumps from"),
+        (&truncated, "is not valid JSON"),
+        (&through_rock, "inside an obstacle"),
+        (&moved, "does not hold what its plan composes to"),
+        (&moved, moved_field.as_str()),
+    ] {
         let log = dir.path().join("flight.json");
         let out = swarmctl()
             .arg("fly")

@@ -9,6 +9,7 @@ mod support;
 
 mod cli_check;
 mod cli_plan;
+mod closed_pipe;
 mod operator;
 mod readme;
 mod relays;

@@ -314,10 +314,14 @@ fn lost_comes_after_lost_after_s_and_the_summary_says_where_it_was() {
         (lost_s - link_lost_s - 3.0).abs() < 0.6,
         "link lost at {link_lost_s} s, LOST at {lost_s} s"
     );
+    // Said once, on the line that counts the drones unaccounted for; a drone lost
+    // in the air is never a success.
     assert!(
-        stdout.contains("LOST a") && stdout.contains("last position ("),
+        stdout.contains("  unaccounted for      1 drone: LOST a (last position ("),
         "{stdout}"
     );
+    assert_eq!(stdout.matches("LOST a").count(), 1, "{stdout}");
+    assert_eq!(out.status.code(), Some(1), "{stdout}\n{err}");
     // Status lines after the loss say LOST, never LINK LOST again.
     let after: Vec<&str> = err
         .lines()
@@ -326,6 +330,51 @@ fn lost_comes_after_lost_after_s_and_the_summary_says_where_it_was() {
         .collect();
     assert!(!after.is_empty(), "no status line says LOST:\n{err}");
     assert!(after.iter().all(|l| !l.contains("LINK LOST")), "{err}");
+}
+
+/// Issue 29, item 5: b1 is lost for good 8 s after takeoff, the survivors are
+/// replanned without it and complete and land; that is no success while b1 is
+/// armed in the air somewhere. The exit code says so, and the summary says once how
+/// many drones are unaccounted for.
+#[test]
+fn a_lost_drone_fails_the_flight_even_when_the_survivors_complete() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let log = dir.path().join("flight.json");
+    let out = swarmctl()
+        .args(["fly", "--plain", "--fault", "lose=b1@8s", "--log"])
+        .arg(&log)
+        .arg("missions/formation-change.yaml")
+        .timeout(std::time::Duration::from_secs(240))
+        .output()
+        .expect("run");
+    let (stdout, err) = (String::from_utf8_lossy(&out.stdout), stderr(&out));
+    assert!(
+        stdout.contains("  replanned            at "),
+        "the survivors were replanned:\n{stdout}\n{err}"
+    );
+    assert!(
+        stdout.contains("  completed            survivors only: not every drone landed"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("  unaccounted for      1 drone: LOST b1 (last position ("),
+        "{stdout}"
+    );
+    assert_eq!(stdout.matches("LOST b1").count(), 1, "{stdout}");
+    assert_eq!(stdout.matches("unaccounted for").count(), 1, "{stdout}");
+    assert_eq!(out.status.code(), Some(1), "{stdout}\n{err}");
+    // The log keeps both: the survivors completed, b1 is unaccounted for.
+    let text = std::fs::read_to_string(&log).expect("flight log");
+    let log: swarmctl::fly::FlightLog = serde_json::from_str(&text).expect("log parses");
+    assert!(log.summary.completed);
+    assert!(!log.summary.succeeded());
+    let ids: Vec<&str> = log
+        .summary
+        .unaccounted
+        .iter()
+        .map(|u| u.id.as_str())
+        .collect();
+    assert_eq!(ids, ["b1"]);
 }
 
 /// Item 1, the key `fly` would load: a signing key file that is missing is

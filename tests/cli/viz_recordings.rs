@@ -273,6 +273,8 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         retired: Vec::new(),
         handed_over: Vec::new(),
         replans: Vec::new(),
+        check: None,
+        unaccounted: Vec::new(),
     };
     let drones = plan
         .drones

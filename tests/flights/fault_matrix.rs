@@ -76,6 +76,13 @@ async fn a_drone_lost_for_good_is_replanned_around_and_the_rest_complete() {
     let replan = &log.summary.replans[0];
     assert_eq!(replan.left_out, ["b1"]);
     assert!(replan.new_makespan_s.is_some_and(|s| s > 0.0));
+    // The spliced trajectories were checked before they flew, inside the deadline.
+    let check = replan.check.as_ref().expect("the replan's check figures");
+    assert!(check.passed(), "{}", check.line());
+    assert_eq!(check.drones, 7, "the survivors");
+    assert!(check.min_separation_bound_m >= check.required_separation_m);
+    assert!(check.check_s <= replan.planning_s);
+    assert!(log.summary.check.is_some(), "and the plan before arming");
     assert!(
         log.events
             .iter()

@@ -97,4 +97,24 @@ pub fn assert_success(log: &FlightLog) {
         s.worst_tracking.is_some(),
         "the summary names the worst tracker"
     );
+    // The checker ran before arming, on what was flown, and its figures are logged.
+    let check = s.check.as_ref().expect("the pre-flight check's figures");
+    assert!(check.passed(), "{}", check.line());
+    assert_eq!(check.drones, log.drones.len());
+    assert!(check.samples > 1);
+    assert!(
+        check.min_separation_bound_m >= check.required_separation_m,
+        "{}",
+        check.line()
+    );
+    assert!(check.required_separation_m >= s.safety_distance_m);
+    assert!(
+        check.max_speed_mps <= s.speed_limit_mps + 1e-9,
+        "{}",
+        check.line()
+    );
+    assert!(
+        s.lines().iter().any(|l| l.contains("pre-flight check")),
+        "the summary prints it"
+    );
 }

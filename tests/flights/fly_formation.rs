@@ -70,3 +70,25 @@ async fn small_show_pad_to_pad() {
         );
     }
 }
+
+/// The two missions of issue 29 that crashed or were refused after planning (stage
+/// holds with spares that hold above their pads, one never moving at all) fly pad
+/// to pad and complete: the holds are kept and every drone lands.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn stage_holds_with_spares_above_their_pads_fly() {
+    for path in [
+        "tests/data/missions/repro-panic.yaml",
+        "tests/data/missions/repro-rotation.yaml",
+    ] {
+        let (mission, plan) = load(path);
+        let log = fly_bundled(&mission, &plan, Flavour::Px4, &[], Duration::from_secs(150))
+            .await
+            .expect("flight");
+        assert_success(&log);
+        assert!(
+            log.summary.succeeded(),
+            "{path}: {:?}",
+            log.summary.unaccounted
+        );
+    }
+}

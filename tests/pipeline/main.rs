@@ -16,3 +16,5 @@ mod plan_optimality;
 mod schedule_cases;
 mod schedule_missions;
 mod schedule_props;
+mod valid_missions;
+mod world_model;

@@ -403,6 +403,46 @@ const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
         false,
     ),
     (
+        "pad under an obstacle standing on the ground",
+        "{ id: r1, start: [5, 3, 0] }",
+        "{ id: r1, start: [5, 3, 0], pad: [3, 0] }",
+        "groups[1].drones[0].pad",
+        "pad [3, 0] is under an obstacle that stands on the ground",
+        false,
+    ),
+    (
+        "overhead obstacle reaching into the pad layer",
+        "{ min: [3, 2, 0], max: [3, 3, 1] }",
+        "{ min: [3, 2, -1], max: [3, 3, 1], overhead: true }",
+        "world.obstacles[1].overhead",
+        "reaches down into the pad layer",
+        false,
+    ),
+    (
+        "pad-layer obstacle beyond the launch area",
+        "- [3, 0, 0]",
+        "- [3, 100, -1]",
+        "world.obstacles[0]",
+        "beyond the launch area",
+        false,
+    ),
+    (
+        "obstacle box beside the world above the pad layer",
+        "{ min: [3, 2, 0], max: [3, 3, 1] }",
+        "{ min: [-2, 2, -1], max: [3, 3, 1] }",
+        "world.obstacles[1].min",
+        "a box beside the world must lie in the pad layer",
+        false,
+    ),
+    (
+        "obstacle below the pad layer",
+        "- [3, 0, 0]",
+        "- [3, 0, -2]",
+        "world.obstacles[0]",
+        "or z = -1 for an obstacle in the pad layer",
+        false,
+    ),
+    (
         "pad too far",
         "{ id: r1, start: [5, 3, 0] }",
         "{ id: r1, start: [5, 3, 0], pad: [500, 0] }",
@@ -496,6 +536,108 @@ fn every_bad_input_is_reported_with_path_and_reason() {
     }
 }
 
+/// The pad layer's cell `[x, y]` is free in the mission's airspace.
+fn pad_cell_free(m: &swarmctl::mission::Mission, x: i32, y: i32) -> bool {
+    m.airspace.is_free(swarmctl::world::Voxel::new(x, y, -1))
+}
+
+#[test]
+fn obstacles_stand_on_the_ground_unless_overhead() {
+    // [3, 0, 0] stands on the ground; the box [3, 2..3, 0..1] too; an overhead
+    // lintel at [1, 1, 1] leaves [1, 1, 0] and the pad layer below free; a pillar
+    // written at [2, 1, 1] reaches down to the ground.
+    let yaml = BASE.replacen(
+        "    - [3, 0, 0]\n",
+        "    - [3, 0, 0]\n    - { min: [1, 1, 1], max: [1, 1, 1], overhead: true }\n    - [2, 1, 1]\n",
+        1,
+    );
+    let m = mission::from_yaml(&yaml, "case.yaml".as_ref()).expect("valid");
+    let v = swarmctl::world::Voxel::new;
+    assert!(
+        !pad_cell_free(&m, 3, 0),
+        "under a wall standing on the ground"
+    );
+    assert!(!pad_cell_free(&m, 3, 2) && !pad_cell_free(&m, 3, 3));
+    assert!(pad_cell_free(&m, 1, 1), "under an overhead obstacle");
+    assert!(m.airspace.is_free(v(1, 1, 0)) && !m.airspace.is_free(v(1, 1, 1)));
+    assert!(
+        !m.airspace.is_free(v(2, 1, 0)),
+        "a pillar stands on the ground"
+    );
+    assert!(!pad_cell_free(&m, 2, 1));
+    assert!(pad_cell_free(&m, 2, 0), "free ground elsewhere");
+}
+
+#[test]
+fn obstacles_may_stand_in_the_pad_layer_and_the_launch_area() {
+    // A box in the pad layer under the world and a tent in the launch area beside
+    // it: both accepted (once refused as "outside the world"), both blocked, and
+    // no pad is assigned there.
+    let yaml = BASE
+        .replacen(
+            "    - [3, 0, 0]\n",
+            "    - [3, 0, 0]\n    - { min: [1, 0, -1], max: [1, 1, -1] }\n    - [-1, 0, -1]\n",
+            1,
+        )
+        .replacen(
+            "start: [0, 1, 0], system_id: 2",
+            "start: [0, 0, 1], system_id: 2",
+            1,
+        );
+    let m = mission::from_yaml(&yaml, "case.yaml".as_ref()).expect("valid");
+    assert!(!pad_cell_free(&m, 1, 0) && !pad_cell_free(&m, 1, 1));
+    assert!(m.airspace.is_free(swarmctl::world::Voxel::new(1, 0, 0)));
+    let pads: Vec<[i32; 2]> = m.drones().map(|(_, d)| d.pad).collect();
+    assert!(
+        !pads.contains(&[-1, 0]) && !pads.contains(&[1, 0]),
+        "{pads:?}"
+    );
+    for pad in pads {
+        assert!(pad_cell_free(&m, pad[0], pad[1]), "pad {pad:?} is blocked");
+    }
+}
+
+#[test]
+fn a_mission_without_origin_gets_room_for_the_pad_layer() {
+    let yaml = BASE.replacen("  origin_m: [0.0, 0.0, 1.5]\n", "", 1);
+    let m = mission::from_yaml(&yaml, "case.yaml".as_ref()).expect("the default origin is valid");
+    assert_eq!(m.world.origin_m(), [0.0, 0.0, 1.5]);
+    assert!((m.pad_height_m() - 0.5).abs() < 1e-12);
+    // Larger voxels: layer 0 still a voxel above a pad layer half a metre up.
+    let yaml = yaml.replacen("voxel_size_m: 1.0", "voxel_size_m: 2.0", 1);
+    let m = mission::from_yaml(&yaml, "case.yaml".as_ref()).expect("valid with 2 m voxels");
+    assert_eq!(m.world.origin_m(), [0.0, 0.0, 2.5]);
+    assert!((m.pad_height_m() - 0.5).abs() < 1e-12);
+}
+
+#[test]
+fn an_oversized_safety_distance_is_named_first() {
+    // 1.2 m in 1 m voxels: the separation is the cause; the pad layer is not blamed.
+    for yaml in [
+        BASE.replacen("safety_distance_m: 0.3", "safety_distance_m: 1.2", 1),
+        BASE.replacen("safety_distance_m: 0.3", "safety_distance_m: 1.2", 1)
+            .replacen("  origin_m: [0.0, 0.0, 1.5]\n", "", 1),
+    ] {
+        let problems = problems_of(&yaml);
+        assert_eq!(problems.len(), 1, "{problems:#?}");
+        let (path, message, _) = &problems[0];
+        assert_eq!(path, "limits.safety_distance_m");
+        assert!(message.contains("at most 0.980 m fits"), "{message}");
+    }
+}
+
+#[test]
+fn no_room_for_the_pad_layer_says_what_fits() {
+    let yaml = BASE.replacen("origin_m: [0.0, 0.0, 1.5]", "origin_m: [0.0, 0.0, 0.0]", 1);
+    let problems = problems_of(&yaml);
+    let (path, message, _) = &problems[0];
+    assert_eq!(path, "world.origin_m", "{problems:#?}");
+    assert!(
+        message.contains("raise world.origin_m z to at least 1.50 m"),
+        "{message}"
+    );
+}
+
 #[test]
 fn walled_off_goals_are_named() {
     // Red's goal [0, 3, 1] in the top north-west corner, boxed in on its three open
@@ -580,6 +722,8 @@ fn yaml_value() -> impl Strategy<Value = yaml_serde::Value> {
         "system_id",
         "pad",
         "pad_height_m",
+        "overhead",
+        "formations_use_pad_layer",
         "stages",
         "hold_s",
         "landing",

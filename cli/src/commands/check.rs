@@ -46,11 +46,17 @@ fn print_summary(path: &std::path::Path, m: &mission::Mission) {
         |lb| format!("{lb} steps"),
     );
     println!("{}: valid mission {:?}", path.display(), m.name);
+    let pad_layer_blocked = m.airspace.obstacles().filter(|v| v.z < 0).count();
     println!(
-        "  world      {x}×{y}×{z} voxels of {} m, {} free, {} obstacles",
+        "  world      {x}×{y}×{z} voxels of {} m, {} free, {} obstacles; {pad_layer_blocked} pad-layer cells blocked under obstacles{}",
         m.world.voxel_size_m(),
         m.world.free_count(),
-        m.world.len() - m.world.free_count()
+        m.world.len() - m.world.free_count(),
+        if m.formations_use_pad_layer {
+            ""
+        } else {
+            "; formations keep out of the pad layer"
+        }
     );
     let sizes: Vec<String> = m
         .groups

@@ -1,10 +1,12 @@
-//! `swarmctl fly`: plan (or load a plan), then fly it over MAVLink — against the
-//! mission's endpoints, or the bundled SITL when the mission names none.
+//! `swarmctl fly`: plan (or load a plan), compose and check it, then fly exactly
+//! that over MAVLink — against the mission's endpoints, or the bundled SITL when
+//! the mission names none.
 
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
+use swarmctl::compiled::{self, CheckedPlan, CompiledPlan};
 use swarmctl::fly::{self, FaultSpec, FlyOptions, VehicleLink};
 use swarmctl::import;
 use swarmctl::link::SigningKey;
@@ -168,19 +170,26 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(usage) = super::refuse_unknown_fault_drones(&args.faults, &mission) {
         return Ok(usage);
     }
-    let plan = match &args.plan {
+    // Composed and checked before anything starts; what flies is exactly this.
+    let checked = match &args.plan {
         Some(path) => load_plan(path, &mission)?,
         None => plan_now(&mission, args.deadline)?,
     };
+    let plan = checked.discrete();
     let path = args
         .log
         .clone()
         .unwrap_or_else(|| default_log_path(&args.mission));
     // Recorded live; flying never depends on it (a recorder that fails only warns).
-    let recording = start_recording(&args, &mission, &plan, &path);
+    let recording = start_recording(&args, &mission, checked.compiled(), &path);
     let observer = recording.as_ref().map(|(r, _)| r.observer());
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
-    let log = match runtime.block_on(fly_async(&args, &durations, &mission, &plan, observer)) {
+    let flight = Flight {
+        mission: &mission,
+        checked: &checked,
+        plan: &plan,
+    };
+    let log = match runtime.block_on(fly_async(&args, &durations, flight, observer)) {
         Ok(log) => log,
         Err(refused) => {
             if let Some(recording) = recording {
@@ -213,26 +222,38 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(recording) = recording {
         finish_recording(recording, &log);
     }
-    // `completed` already requires the separation and the speed limit held; both
-    // are checked again here so that a broken limit can never exit 0.
-    let s = &log.summary;
-    let ok = s.completed && s.safety_held && s.speed_held;
-    Ok(if ok {
+    // Exit 0 only when every drone landed (README, exit codes): survivors that
+    // completed after a loss do not make a drone lost in the air a success, and a
+    // broken limit never exits 0.
+    Ok(if log.summary.succeeded() {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
     })
 }
 
-/// Flies `plan` with the live status view (and `observer`, the recording), on
-/// the mission's vehicles or the bundled SITL; Ctrl-C lands everyone.
+/// What is flown: the mission, its checked plan and that plan's discrete part.
+#[derive(Clone, Copy)]
+struct Flight<'a> {
+    mission: &'a Mission,
+    checked: &'a CheckedPlan,
+    plan: &'a DiscretePlan,
+}
+
+/// Flies the checked plan with the live status view (and `observer`, the
+/// recording), on the mission's vehicles or the bundled SITL; Ctrl-C lands
+/// everyone.
 async fn fly_async(
     args: &Args,
     durations: &Durations,
-    mission: &Mission,
-    plan: &DiscretePlan,
+    flight: Flight<'_>,
     observer: Option<Arc<dyn fly::FlightObserver>>,
 ) -> anyhow::Result<fly::FlightLog> {
+    let Flight {
+        mission,
+        checked,
+        plan,
+    } = flight;
     let (abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     abort_on_ctrl_c(abort_tx);
     let source = match &args.signing_key_file {
@@ -264,7 +285,7 @@ async fn fly_async(
         eprintln!("MAVLink 2 signing on: unsigned or wrongly signed messages are refused");
     }
     options.signing_key = signing_key;
-    let result = fly::fly(mission, plan, &options, abort_rx).await;
+    let result = fly::fly_checked(mission, checked, &options, abort_rx).await;
     status.finish();
     backing.shutdown().await;
     Ok(result?)
@@ -402,12 +423,15 @@ fn frame_source(args: &Args) -> fly::FrameSource {
 }
 
 /// The plan file, refused before anything starts unless it is a valid plan for
-/// `mission` (see `swarmctl::compiled::file`).
-fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<DiscretePlan> {
+/// `mission` whose composition passes the checker and is what the file holds
+/// (see `swarmctl::compiled::file`).
+fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<CheckedPlan> {
     Ok(swarmctl::compiled::file::load(path, mission)?)
 }
 
-fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> {
+/// Plans the mission now, then composes and checks the plan as `swarmctl plan`
+/// does; refused, naming the violation, before anything starts.
+fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<CheckedPlan> {
     let options = plan::PlanOptions {
         deadline: std::time::Duration::try_from_secs_f64(deadline_s)
             .ok()
@@ -415,15 +439,20 @@ fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<DiscretePlan> 
             .context("--deadline must be a positive number of seconds")?,
         ..plan::PlanOptions::default()
     };
-    Ok(plan::solve(mission, &options)
-        .with_context(|| {
-            format!(
-                "planning {}{}",
-                mission.name,
-                super::plan::reach_hint(mission)
-            )
-        })?
-        .plan)
+    let solution = plan::solve(mission, &options).with_context(|| {
+        format!(
+            "planning {}{}",
+            mission.name,
+            super::plan::reach_hint(mission)
+        )
+    })?;
+    let lower_bound_steps = solution.stats.initial_lower_bound_steps;
+    compiled::compile_plan(mission, &solution.plan, lower_bound_steps).with_context(|| {
+        format!(
+            "checking the plan of {} before flight (nothing was started)",
+            mission.name
+        )
+    })
 }
 
 /// `flights/<mission file name>-<unix time>.json`: named after the file the user
@@ -455,7 +484,7 @@ fn default_log_path(mission_file: &Path) -> PathBuf {
 fn start_recording(
     args: &Args,
     mission: &Mission,
-    plan: &DiscretePlan,
+    plan: &CompiledPlan,
     log_path: &Path,
 ) -> Option<(LiveFlight, Sink)> {
     let sink = args.viewer.sink_or_beside(log_path);

@@ -35,8 +35,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         (Some(path), Some(m)) => {
             // The same checks `fly --plan` makes: a plan of another mission (or
             // an edited one) would draw paths the flight never had.
-            swarmctl::compiled::file::load(path, m)?;
-            Some(read_json(path, "a plan written by `swarmctl plan -o`")?)
+            Some(swarmctl::compiled::file::load(path, m)?.into_compiled())
         }
         _ => None,
     };

@@ -7,13 +7,13 @@
 //! Rerun calls happen on the recorder's own thread, which also keeps rerun's
 //! per-thread current time away from the executor's tasks.
 
-use super::{RecordError, Sink, mission_scene, prepare};
+use super::{RecordError, Sink, prepare};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use swarmctl::compiled::CompiledPlan;
 use swarmctl::fly::log::LogEvent;
 use swarmctl::fly::{FlightLog, FlightObserver};
 use swarmctl::mission::Mission;
-use swarmctl::plan::DiscretePlan;
 use swarmctl_viz::{
     FlightSample, Recorder, RecorderHandle, RecorderOptions, RecorderStats, TimeAxis,
 };
@@ -57,19 +57,17 @@ impl FlightObserver for Tap {
 }
 
 impl LiveFlight {
-    /// Opens the recording at `sink` with the mission's world and `plan` (scheduled
-    /// as the executor will fly it, on `plan_time`), ready for samples. If the plan
-    /// cannot be scheduled for display, the recording shows the world and the
-    /// flight without it.
+    /// Opens the recording at `sink` with the mission's world and `plan`, the
+    /// compiled plan the executor flies (its samples and gates, on `plan_time`:
+    /// the same artifact, not scheduled again), ready for samples.
     pub fn start(
         mission: &Mission,
-        plan: &DiscretePlan,
+        plan: &CompiledPlan,
         sink: &Sink,
         options: RecorderOptions,
     ) -> Result<Self, RecordError> {
         prepare(sink)?;
-        let scene =
-            super::scheduled_scene(mission, plan).unwrap_or_else(|_| mission_scene(mission));
+        let scene = super::plan::drones_scene(mission, &plan.drones, &plan.execution);
         let scene_index = plan
             .drones
             .iter()

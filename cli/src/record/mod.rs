@@ -6,14 +6,12 @@
 //! happens) and [`record_flight`] (a flight log, afterwards).
 
 mod args;
-mod discrete;
 mod flight;
 mod live;
 mod mission;
 mod plan;
 
 pub use args::ViewerArgs;
-pub use discrete::{schedule_discrete, scheduled_scene};
 pub use flight::{flight_plan_offset_s, record_flight, scaled_summary_event};
 pub use live::LiveFlight;
 pub use mission::mission_scene;
@@ -26,9 +24,6 @@ pub enum RecordError {
     /// The recorder could not open its sink or log to it.
     #[error(transparent)]
     Viz(#[from] VizError),
-    /// The plan could not be scheduled into trajectories to show.
-    #[error("cannot schedule the plan for the recording: {0}")]
-    Compile(#[from] swarmctl::compiled::CompileError),
     /// The directory a file sink goes into could not be created.
     #[error("cannot create {dir}: {source}")]
     CreateDir {

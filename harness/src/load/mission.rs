@@ -60,10 +60,11 @@ pub fn load_mission(
         world: WorldSpec {
             dimensions: [i64::from(side), i64::from(side), i64::from(LAYERS + 1)],
             voxel_size_m: 1.0,
-            origin_m: [0.0, 0.0, 1.0],
+            origin_m: Some([0.0, 0.0, 1.0]),
             pad_height_m: None,
             geo_origin: None,
             obstacles: Vec::new(),
+            formations_use_pad_layer: true,
         },
         limits: LimitsSpec {
             max_speed_mps: 1.0,

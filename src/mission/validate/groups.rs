@@ -246,7 +246,7 @@ impl<'a> Checker<'a, '_> {
 
     /// A written pad, when it lies within `PAD_REACH` voxels of the world's footprint.
     fn pad(&mut self, path: &str, raw: [i64; 2]) -> Option<[i32; 2]> {
-        let reach = i64::from(super::pads::PAD_REACH);
+        let reach = i64::from(super::bounds::PAD_REACH);
         let [dx, dy, _] = self.bounds.dimensions();
         let ok = |c: i64, d: u32| c >= -reach && c < i64::from(d) + reach;
         if ok(raw[0], dx) && ok(raw[1], dy) {

@@ -3,11 +3,13 @@
 //! The checks run in file order: the name, the world's extent and scale, the limits,
 //! the link, then the obstacles, the groups with their drones and goals, the pads, the
 //! stages and the landing, and last whether every drone can reach every formation of
-//! its group from its pad. Only the world's extent stops
-//! the checks early, since nothing placed in the world can be checked without it; and
-//! reachability is only asked of a mission that is otherwise valid.
+//! its group from its pad, and whether every leg has room for all its drones at once.
+//! Only the world's extent stops the checks early, since nothing placed in the world
+//! can be checked without it; and reachability and room are only asked of a mission
+//! that is otherwise valid.
 
 mod bounds;
+mod contests;
 mod fields;
 mod groups;
 mod pads;
@@ -22,6 +24,7 @@ mod world;
 use super::error::Problem;
 use super::schema::MissionFile;
 use super::types::{DEFAULT_MAX_JERK_MPS3, Limits, LinkSettings, Mission};
+use crate::world::Voxel;
 use report::Report;
 
 pub use bounds::{MAX_DIMENSION, MAX_VOXELS};
@@ -33,6 +36,8 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     settings::check_name(&file.name, &mut report);
     let dimensions = settings::check_world(&file.world, &mut report);
     settings::check_limits(&file.limits, file.world.voxel_size_m, &mut report);
+    let separation_fits =
+        settings::separation_fits_voxel(&file.limits, file.world.voxel_size_m, &mut report);
     let signing = settings::check_link(&file.link, &mut report);
     let relay_of = relays::check_relays(&file.link, &file.groups, &mut report);
     if file.groups.is_empty() {
@@ -42,29 +47,46 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         return Err(report.into_problems());
     };
     let bounds = world::Bounds::new(dimensions);
-    let world = world::build(&file.world, &bounds, &mut report);
+    let (world, ground) = world::build(&file.world, &bounds, &mut report);
     let mut groups = groups::check_groups(&file.groups, &world, &bounds, &relay_of, &mut report);
-    let pad_height_m = pads::pad_height(
-        &file.world,
-        file.limits.horizontal_separation_m(),
-        &mut report,
-    );
-    pads::assign_pads(&mut groups, &mut report);
+    // A separation wider than a voxel is the cause to name: no pad layer would fit it.
+    let pad_height_m = separation_fits
+        .then(|| {
+            pads::pad_height(
+                &file.world,
+                file.limits.horizontal_separation_m(),
+                &mut report,
+            )
+        })
+        .flatten();
+    pads::assign_pads(&mut groups, &ground, &mut report);
     let stages = stages::check_stages(&file.stages, &groups, &world, &bounds, &mut report);
     let landing = file.landing.unwrap_or_default();
-    let final_goals = super::legs::last_formations(&groups, &stages);
-    stages::check_landing(landing, &final_goals, &world, &mut report);
+    // Where each drone may be when landing starts: the last goals, or a spare's hold.
+    let final_targets: Vec<Vec<Voxel>> = super::legs::last_formations(&groups, &stages)
+        .iter()
+        .zip(&groups)
+        .map(|(goals, g)| g.formation_targets(goals))
+        .collect();
+    stages::check_landing(landing, &final_targets, &world, &ground, &mut report);
     let Some(pad_height_m) = pad_height_m.filter(|_| report.is_empty()) else {
         return Err(report.into_problems());
     };
     let tracking_error_m = settings::tracking_error(
         &file.limits,
         file.world.voxel_size_m,
-        file.world.origin_m[2] - pad_height_m,
+        file.world.origin_or_default_m()[2] - pad_height_m,
         &mut report,
     );
-    let airspace = pads::airspace(&world, pad_height_m, &groups);
-    reachability::check_reachability(&airspace, &groups, &stages, &mut report);
+    let airspace = pads::airspace(&world, &ground, pad_height_m, &groups);
+    let formations_use_pad_layer = file.world.formations_use_pad_layer;
+    reachability::check_reachability(
+        &airspace,
+        formations_use_pad_layer,
+        &groups,
+        &stages,
+        &mut report,
+    );
     if !report.is_empty() {
         return Err(report.into_problems());
     }
@@ -81,11 +103,12 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     if !report.is_empty() {
         return Err(report.into_problems());
     }
-    Ok(Mission {
+    let mission = Mission {
         name: file.name.clone(),
         description: file.description.clone(),
         world,
         airspace,
+        formations_use_pad_layer,
         limits,
         geo_origin: file.world.geo_origin,
         link: LinkSettings {
@@ -103,5 +126,10 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         groups,
         stages,
         landing,
-    })
+    };
+    contests::check_leg_targets(&mission, &mut report);
+    if !report.is_empty() {
+        return Err(report.into_problems());
+    }
+    Ok(mission)
 }

@@ -21,7 +21,10 @@ pub(super) fn check_name(name: &str, report: &mut Report) {
 pub(super) fn check_world(world: &WorldSpec, report: &mut Report) -> Option<[u32; 3]> {
     let dimensions = check_dimensions(world.dimensions, report);
     check_positive(report, "world.voxel_size_m", world.voxel_size_m, "m");
-    if world.origin_m.iter().any(|c| !c.is_finite()) {
+    if world
+        .origin_m
+        .is_some_and(|o| o.iter().any(|c| !c.is_finite()))
+    {
         report.add("world.origin_m", "must be finite numbers");
     }
     if let Some(g) = &world.geo_origin {
@@ -108,6 +111,23 @@ pub(super) fn tracking_error(
         );
     }
     e
+}
+
+/// Whether the separation as written fits the voxel size with room to track;
+/// reports it (naming the separation and what fits) when it does not. Checked
+/// before the pad layer, whose room no setting could make for such a separation.
+pub(super) fn separation_fits_voxel(
+    limits: &LimitsSpec,
+    voxel_size_m: f64,
+    report: &mut Report,
+) -> bool {
+    let d = limits.horizontal_separation_m();
+    let fits = 0.5 * (voxel_size_m - d) - TRACKING_MARGIN_M >= -1e-9;
+    if d.is_finite() && d > 0.0 && voxel_size_m.is_finite() && voxel_size_m > 0.0 && !fits {
+        report_separation_too_wide(limits, d, voxel_size_m, voxel_size_m, voxel_size_m, report);
+        return false;
+    }
+    true
 }
 
 /// The safety distance (or an ellipsoid's horizontal radius) `d` leaves less than

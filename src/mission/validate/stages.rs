@@ -3,6 +3,7 @@
 
 use super::pads::blocked_below;
 use super::report::Report;
+use super::world::GroundCells;
 use super::world::{Bounds, free_voxel};
 use crate::mission::schema::{Landing, StageSpec};
 use crate::mission::types::{Group, Stage};
@@ -104,32 +105,35 @@ pub(super) fn check_stages(
 }
 
 /// `below_goal` landing descends straight down from the last formation: no two of
-/// its goals may share a column, and no obstacle may stand below any of them.
+/// its targets (per group, its last goals and its spares' holds: wherever a drone
+/// may be when landing starts) may share a column, and no obstacle may stand below
+/// any of them.
 pub(super) fn check_landing(
     landing: Landing,
-    final_goals: &[&[Voxel]],
+    final_targets: &[Vec<Voxel>],
     world: &VoxelGrid,
+    ground: &GroundCells,
     report: &mut Report,
 ) {
     if landing != Landing::BelowGoal {
         return;
     }
     let mut columns: HashMap<[i32; 2], Voxel> = HashMap::new();
-    for &goal in final_goals.iter().flat_map(|g| g.iter()) {
+    for &goal in final_targets.iter().flatten() {
         if let Some(other) = columns.insert([goal.x, goal.y], goal) {
             report.add(
                 "landing",
                 format!(
-                    "below_goal needs every last goal in a column of its own, but {other} and {goal} share column [{}, {}] (use group_pads or own_pad)",
+                    "below_goal needs every last goal (and every spare's hold) in a column of its own, but {other} and {goal} share column [{}, {}] (use group_pads or own_pad)",
                     goal.x, goal.y
                 ),
             );
         }
-        if let Some(block) = blocked_below(world, goal) {
+        if let Some(block) = blocked_below(world, ground, goal) {
             report.add(
                 "landing",
                 format!(
-                    "below_goal needs a free column below every last goal, but obstacle {block} is below goal {goal} (use group_pads or own_pad)"
+                    "below_goal needs a free column below every last goal (and every spare's hold), but obstacle {block} is below goal {goal} (use group_pads or own_pad)"
                 ),
             );
         }

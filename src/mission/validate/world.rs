@@ -1,5 +1,7 @@
-//! The voxel world: which written coordinates lie inside it, and its obstacles.
+//! The voxel world: which written coordinates lie inside it, and its obstacles,
+//! which stand on the ground unless written `overhead`.
 
+use super::bounds::PAD_REACH;
 use super::report::Report;
 use crate::mission::schema::{BoxSpec, ObstacleSpec, RawVoxel, WorldSpec};
 use crate::world::{Voxel, VoxelGrid};
@@ -63,45 +65,104 @@ pub(super) fn free_voxel(
     }
 }
 
+/// The pad-layer cells `[x, y]` that obstacles block: under every obstacle that
+/// stands on the ground, and obstacles written in the pad layer itself.
+pub(super) type GroundCells = std::collections::BTreeSet<[i32; 2]>;
+
 /// Builds the voxel grid and blocks its obstacles, reporting those that are outside
-/// the world or inverted (such obstacles block nothing).
-pub(super) fn build(spec: &WorldSpec, bounds: &Bounds, report: &mut Report) -> VoxelGrid {
-    let mut world = VoxelGrid::new(bounds.dimensions, spec.voxel_size_m, spec.origin_m);
+/// the world (or its launch area) or inverted (such obstacles block nothing).
+///
+/// An obstacle stands on the ground: it blocks its voxels, every voxel below them
+/// down to layer 0, and the pad-layer cell under its column (returned as ground
+/// cells, since the pad layer is not part of the world's grid). An `overhead` box
+/// blocks only its own voxels. A voxel at `z = -1` is in the pad layer, where it may
+/// also lie beside the world, in the launch area.
+pub(super) fn build(
+    spec: &WorldSpec,
+    bounds: &Bounds,
+    report: &mut Report,
+) -> (VoxelGrid, GroundCells) {
+    let mut world = VoxelGrid::new(
+        bounds.dimensions,
+        spec.voxel_size_m,
+        spec.origin_or_default_m(),
+    );
+    let mut ground = GroundCells::new();
     for (i, obstacle) in spec.obstacles.iter().enumerate() {
         let path = format!("world.obstacles[{i}]");
-        match obstacle {
-            ObstacleSpec::Cell(raw) => match bounds.voxel(*raw) {
-                Some(v) => world.block(v),
-                None => report.add(path, bounds.outside(*raw)),
+        let (min, max, overhead) = match obstacle {
+            ObstacleSpec::Cell(raw) => match obstacle_voxel(bounds, *raw) {
+                Ok(v) => (v, v, false),
+                Err(why) => {
+                    report.add(path, why);
+                    continue;
+                }
             },
-            ObstacleSpec::Box(b) => {
-                if let Some((min, max)) = check_box(&path, b, bounds, report) {
-                    block_box(&mut world, min, max);
+            ObstacleSpec::Box(b) => match check_box(&path, b, bounds, report) {
+                Some((min, max)) => (min, max, b.overhead),
+                None => continue,
+            },
+        };
+        let floor_z = if overhead { min.z } else { -1 };
+        for y in min.y..=max.y {
+            for x in min.x..=max.x {
+                for z in floor_z.max(0)..=max.z {
+                    world.block(Voxel::new(x, y, z));
+                }
+                if floor_z < 0 {
+                    ground.insert([x, y]);
                 }
             }
         }
     }
-    world
+    (world, ground)
 }
 
-/// The corners of an obstacle box, when both lie inside the world and `min` is
-/// nowhere above `max`.
+/// The voxel at `raw` where an obstacle may be: inside the world, or in the pad
+/// layer (`z = -1`) under the world or beside it within the launch area; else why not.
+fn obstacle_voxel(bounds: &Bounds, raw: RawVoxel) -> Result<Voxel, String> {
+    if raw[2] == -1 {
+        let reach = i64::from(PAD_REACH);
+        let [dx, dy, _] = bounds.dimensions.map(i64::from);
+        let inside = |c: i64, d: i64| (-reach..d + reach).contains(&c);
+        return if inside(raw[0], dx) && inside(raw[1], dy) {
+            Ok(Voxel::new(raw[0] as i32, raw[1] as i32, -1))
+        } else {
+            Err(format!(
+                "{raw:?} is in the pad layer (z = -1) but beyond the launch area: x from {} to {}, y from {} to {} ({PAD_REACH} cells beside the world)",
+                -reach,
+                dx + reach - 1,
+                -reach,
+                dy + reach - 1
+            ))
+        };
+    }
+    bounds.voxel(raw).ok_or_else(|| {
+        format!(
+            "{} (or z = -1 for an obstacle in the pad layer)",
+            bounds.outside(raw)
+        )
+    })
+}
+
+/// The corners of an obstacle box, when both lie where obstacles may be, `min` is
+/// nowhere above `max`, a box above the pad layer lies within the world's
+/// footprint, and an overhead box does not reach into the pad layer.
 fn check_box(
     path: &str,
     b: &BoxSpec,
     bounds: &Bounds,
     report: &mut Report,
 ) -> Option<(Voxel, Voxel)> {
-    let (min, max) = match (bounds.voxel(b.min), bounds.voxel(b.max)) {
-        (Some(min), Some(max)) => (min, max),
-        (min, _) => {
+    let (min, max) = match (obstacle_voxel(bounds, b.min), obstacle_voxel(bounds, b.max)) {
+        (Ok(min), Ok(max)) => (min, max),
+        (Err(why), _) => {
             // Only the first corner outside is reported.
-            let (field, raw) = if min.is_none() {
-                ("min", b.min)
-            } else {
-                ("max", b.max)
-            };
-            report.add(format!("{path}.{field}"), bounds.outside(raw));
+            report.add(format!("{path}.min"), why);
+            return None;
+        }
+        (_, Err(why)) => {
+            report.add(format!("{path}.max"), why);
             return None;
         }
     };
@@ -109,16 +170,24 @@ fn check_box(
         report.add(path, format!("min {min} exceeds max {max} on some axis"));
         return None;
     }
-    Some((min, max))
-}
-
-/// Blocks every voxel of the inclusive box from `min` to `max`.
-fn block_box(world: &mut VoxelGrid, min: Voxel, max: Voxel) {
-    for z in min.z..=max.z {
-        for y in min.y..=max.y {
-            for x in min.x..=max.x {
-                world.block(Voxel::new(x, y, z));
-            }
-        }
+    if max.z >= 0 && bounds.voxel([min.x, min.y, 0].map(i64::from)).is_none() {
+        report.add(
+            format!("{path}.min"),
+            format!(
+                "{min} is beside the world, where only the pad layer is (the box reaches up to layer {}): a box beside the world must lie in the pad layer, z = -1",
+                max.z
+            ),
+        );
+        return None;
     }
+    if b.overhead && min.z < 0 {
+        report.add(
+            format!("{path}.overhead"),
+            format!(
+                "an overhead obstacle leaves the space below it free, but this one reaches down into the pad layer ({min}): start it at layer 0 or above, or drop `overhead`"
+            ),
+        );
+        return None;
+    }
+    Some((min, max))
 }
