@@ -6,7 +6,10 @@ use crate::fly_common::*;
 use std::time::Duration;
 use swarmctl_sitl::Flavour;
 
-const LIMIT: Duration = Duration::from_secs(90);
+/// Bounds each flight, not a speed goal (speed is benchmarked): the plan takes 60.7 s
+/// to its last arrival since its pillar stands on the ground (issue 29), and with 10 %
+/// loss on ArduPilot the flight took 87 s alone, past 90 s with the other tests.
+const LIMIT: Duration = Duration::from_secs(150);
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn formation_change_px4() {
