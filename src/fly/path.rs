@@ -158,11 +158,18 @@ impl Route {
 /// runs its samples were taken from, joined with its execution graph. Nothing is
 /// scheduled again here: what flies is what was checked.
 pub fn routes(checked: &crate::compiled::CheckedPlan) -> Vec<Route> {
-    checked
-        .trajectories()
+    joined(checked.trajectories(), &checked.compiled().execution)
+}
+
+/// Each drone's trajectory joined with its gated events (plan order).
+pub(super) fn joined(
+    trajectories: &crate::trajectory::Trajectories,
+    execution: &crate::schedule::ExecutionPlan,
+) -> Vec<Route> {
+    trajectories
         .drones
         .iter()
-        .zip(&checked.compiled().execution.drones)
+        .zip(&execution.drones)
         .map(|(t, e)| Route::new(t, e))
         .collect()
 }

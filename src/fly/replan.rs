@@ -23,7 +23,6 @@ use super::freeze::{FreezeTarget, freeze_target, lost_voxels, replan_from_leg, v
 use super::log::{LogEvent, ReplanRecord};
 use super::phase::Phase;
 use super::splice::{Splice, SpliceError, SpliceInput, Survivor, plan_splice};
-use crate::compiled::CheckFigures;
 use crate::mission::Mission;
 use crate::plan::{DiscretePlan, PlanOptions};
 use crate::world::Voxel;
@@ -228,8 +227,8 @@ impl Replanner {
                     SpliceError::Unsafe(figures) => Some(figures.as_ref().clone()),
                     _ => None,
                 };
-                self.fall_back(trigger, since_arm_s, &e.to_string(), events);
-                self.note_check(check);
+                self.fall_back(trigger, since_arm_s, &e.to_string(), events)
+                    .check = check;
                 return None;
             }
             Ok(splice) => splice,
@@ -254,18 +253,10 @@ impl Replanner {
                 .map(|&i| format!("{} was heard again while it was replanned", drones[i].id()))
         };
         if let Some(why) = why {
-            self.fall_back(trigger, since_arm_s, &why, events);
-            self.note_check(Some(splice.check));
+            self.fall_back(trigger, since_arm_s, &why, events).check = Some(splice.check);
             return None;
         }
         Some(self.splice(drones, splice, trigger, &left_out, since_arm_s, events))
-    }
-
-    /// Keeps the trajectory checker's figures with the replan just recorded.
-    fn note_check(&mut self, check: Option<CheckFigures>) {
-        if let Some(record) = self.records.last_mut() {
-            record.check = check;
-        }
     }
 
     /// Starts a freeze when a drone still in the plan is newly lost or newly down
@@ -488,14 +479,15 @@ impl Replanner {
         }
     }
 
-    /// No new plan: the flight goes on with the old one, and says why.
+    /// No new plan: the flight goes on with the old one, and says why. Returns the
+    /// record kept, for the trajectory checker's figures when it got that far.
     fn fall_back(
         &mut self,
         trigger: Trigger,
         since_arm_s: f64,
         why: &str,
         events: &mut Vec<LogEvent>,
-    ) {
+    ) -> &mut ReplanRecord {
         events.push(LogEvent::new(
             since_arm_s,
             None,
@@ -515,6 +507,8 @@ impl Replanner {
             fallback: Some(why.to_string()),
             check: None,
         });
+        let last = self.records.len() - 1;
+        &mut self.records[last]
     }
 }
 

@@ -182,11 +182,9 @@ pub fn plan_splice(input: &SpliceInput) -> Result<Splice, SpliceError> {
     if !report.ok() {
         return Err(SpliceError::Unsafe(Box::new(check)));
     }
-    let routes = trajectories
-        .drones
-        .iter()
-        .zip(&execution.drones)
-        .filter_map(|(t, e)| survivor(&t.id).map(|s| (s.run_index, Route::new(t, e))))
+    let routes = super::path::joined(&trajectories, &execution)
+        .into_iter()
+        .filter_map(|r| survivor(&r.id).map(|s| (s.run_index, r)))
         .collect();
     Ok(Splice {
         mission: re.mission,

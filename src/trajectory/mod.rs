@@ -155,6 +155,22 @@ impl Trajectories {
     /// the drone holds (see the separation argument in [`schedule`]), and are what
     /// the independent checker measures along with the rest.
     pub fn pad_to_pad(&self, limits: Kinematics) -> Trajectories {
+        self.with_ground_ends(limits, true)
+    }
+
+    /// The rest of a flight from where the drones are, down to the ground: every
+    /// drone flies its trajectory and, once at rest for good, descends straight to
+    /// the ground below, as in [`Trajectories::pad_to_pad`] but with no climb
+    /// first. A replan spliced in flight starts with every drone airborne and at
+    /// rest; this is what the independent checker measures of it.
+    pub fn to_ground(&self, limits: Kinematics) -> Trajectories {
+        self.with_ground_ends(limits, false)
+    }
+
+    /// Each drone's runs with the descent to the ground after its last, and with
+    /// `climb` the climb from the ground before its first (every run then delayed
+    /// by the longest climb).
+    fn with_ground_ends(&self, limits: Kinematics, climb: bool) -> Trajectories {
         let vertical = |from_m: [f64; 3], to_m: [f64; 3], start_s: f64| Run {
             start_s,
             from_m,
@@ -162,22 +178,27 @@ impl Trajectories {
             profile: Profile::new((to_m[2] - from_m[2]).abs(), limits),
         };
         let ground = |p: [f64; 3]| [p[0], p[1], 0.0];
-        let climb_s = self
-            .drones
-            .iter()
-            .map(|d| {
-                vertical(ground(d.start_m), d.start_m, 0.0)
-                    .profile
-                    .duration_s()
-            })
-            .fold(0.0, f64::max);
+        let climb_s = if climb {
+            self.drones
+                .iter()
+                .map(|d| {
+                    vertical(ground(d.start_m), d.start_m, 0.0)
+                        .profile
+                        .duration_s()
+                })
+                .fold(0.0, f64::max)
+        } else {
+            0.0
+        };
         let drones: Vec<DroneTrajectory> = self
             .drones
             .iter()
             .map(|d| {
                 let end_m = d.runs.last().map_or(d.start_m, |r| r.to_m);
                 let mut runs = Vec::with_capacity(d.runs.len() + 2);
-                runs.push(vertical(ground(d.start_m), d.start_m, 0.0));
+                if climb {
+                    runs.push(vertical(ground(d.start_m), d.start_m, 0.0));
+                }
                 runs.extend(d.runs.iter().map(|r| Run {
                     start_s: r.start_s + climb_s,
                     ..*r
@@ -185,44 +206,7 @@ impl Trajectories {
                 runs.push(vertical(end_m, ground(end_m), d.arrival_s() + climb_s));
                 DroneTrajectory {
                     id: d.id.clone(),
-                    start_m: ground(d.start_m),
-                    runs,
-                }
-            })
-            .collect();
-        Trajectories {
-            makespan_s: drones
-                .iter()
-                .map(DroneTrajectory::arrival_s)
-                .fold(0.0, f64::max),
-            drones,
-        }
-    }
-}
-
-impl Trajectories {
-    /// The rest of a flight from where the drones are, down to the ground: every
-    /// drone flies its trajectory and, once at rest for good, descends straight to
-    /// the ground below, as in [`Trajectories::pad_to_pad`] but with no climb
-    /// first. A replan spliced in flight starts with every drone airborne and at
-    /// rest; this is what the independent checker measures of it.
-    pub fn to_ground(&self, limits: Kinematics) -> Trajectories {
-        let drones: Vec<DroneTrajectory> = self
-            .drones
-            .iter()
-            .map(|d| {
-                let end_m = d.runs.last().map_or(d.start_m, |r| r.to_m);
-                let mut runs = d.runs.clone();
-                let ground_m = [end_m[0], end_m[1], 0.0];
-                runs.push(Run {
-                    start_s: d.arrival_s(),
-                    from_m: end_m,
-                    to_m: ground_m,
-                    profile: Profile::new(end_m[2].abs(), limits),
-                });
-                DroneTrajectory {
-                    id: d.id.clone(),
-                    start_m: d.start_m,
+                    start_m: if climb { ground(d.start_m) } else { d.start_m },
                     runs,
                 }
             })

@@ -248,9 +248,8 @@ impl<'a> Checker<'a, '_> {
     fn pad(&mut self, path: &str, raw: [i64; 2]) -> Option<[i32; 2]> {
         let reach = i64::from(super::bounds::PAD_REACH);
         let [dx, dy, _] = self.bounds.dimensions();
-        let ok = |c: i64, d: u32| c >= -reach && c < i64::from(d) + reach;
-        if ok(raw[0], dx) && ok(raw[1], dy) {
-            Some([raw[0] as i32, raw[1] as i32])
+        if let Some(cell) = self.bounds.launch_cell(raw) {
+            Some(cell)
         } else {
             self.report.add(
                 path,

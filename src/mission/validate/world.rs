@@ -33,6 +33,16 @@ impl Bounds {
         self.dimensions
     }
 
+    /// The ground cell `[x, y]`, when it lies in the launch area: the world's
+    /// footprint and [`PAD_REACH`] cells beside it, where pads and pad-layer
+    /// obstacles may be.
+    pub(super) fn launch_cell(&self, [x, y]: [i64; 2]) -> Option<[i32; 2]> {
+        let reach = i64::from(PAD_REACH);
+        let inside = |c: i64, d: u32| (-reach..i64::from(d) + reach).contains(&c);
+        (inside(x, self.dimensions[0]) && inside(y, self.dimensions[1]))
+            .then_some([x as i32, y as i32])
+    }
+
     /// Why `raw` is rejected, with the range the user may write.
     pub(super) fn outside(&self, raw: RawVoxel) -> String {
         format!(
@@ -124,17 +134,15 @@ fn obstacle_voxel(bounds: &Bounds, raw: RawVoxel) -> Result<Voxel, String> {
     if raw[2] == -1 {
         let reach = i64::from(PAD_REACH);
         let [dx, dy, _] = bounds.dimensions.map(i64::from);
-        let inside = |c: i64, d: i64| (-reach..d + reach).contains(&c);
-        return if inside(raw[0], dx) && inside(raw[1], dy) {
-            Ok(Voxel::new(raw[0] as i32, raw[1] as i32, -1))
-        } else {
-            Err(format!(
+        return match bounds.launch_cell([raw[0], raw[1]]) {
+            Some([x, y]) => Ok(Voxel::new(x, y, -1)),
+            None => Err(format!(
                 "{raw:?} is in the pad layer (z = -1) but beyond the launch area: x from {} to {}, y from {} to {} ({PAD_REACH} cells beside the world)",
                 -reach,
                 dx + reach - 1,
                 -reach,
                 dy + reach - 1
-            ))
+            )),
         };
     }
     bounds.voxel(raw).ok_or_else(|| {
