@@ -7,6 +7,7 @@
 mod support;
 
 mod ellipsoid;
+mod file_sizes;
 mod fuzz_plan;
 mod ground_to_ground;
 mod import_inputs;

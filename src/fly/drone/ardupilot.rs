@@ -45,7 +45,10 @@ impl DroneRun {
     /// or EXTENDED_SYS_STATE saying it is taking off or in the air.
     fn taking_off(&self) -> bool {
         use mavlink::dialects::common::MavLandedState as L;
-        let climbing = self.position_m.is_some_and(|p| p[2] > TAKEOFF_STARTED_M);
+        let climbing = self
+            .telemetry
+            .position_m
+            .is_some_and(|p| p[2] > TAKEOFF_STARTED_M);
         let state = self.session.state().landed_state;
         climbing
             || matches!(
@@ -59,6 +62,7 @@ impl DroneRun {
     pub(super) fn await_altitude(&mut self, settings: &LoopSettings) {
         let start_m = self.route.start_m;
         if self
+            .telemetry
             .position_m
             .is_some_and(|p| p[2] >= start_m[2] - TAKEOFF_NEAR_M)
         {

@@ -12,7 +12,7 @@ impl DroneRun {
     /// drone for landing. A drone that failed anything but landing still lands
     /// (or, on the ground, disarms): nobody is left armed.
     pub fn prepare_landing(&mut self) {
-        if let Some(p) = self.position_m {
+        if let Some(p) = self.telemetry.position_m {
             self.final_distance_to_goal_m = Some(distance_m(p, self.route.goal_m()));
         }
         let landing_failed = matches!(self.phase, Phase::Failed(FailReason::Land(_)));

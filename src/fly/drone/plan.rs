@@ -18,10 +18,10 @@ impl DroneRun {
             self.phase,
             Phase::Flying | Phase::AtGoal | Phase::Retiring { .. }
         );
-        if !observed || self.link_lost || self.telemetry_stale {
+        if !observed || self.telemetry.link_lost || self.telemetry.stale {
             return;
         }
-        if let Some(p) = self.position_m {
+        if let Some(p) = self.telemetry.position_m {
             let arc = self.follower.arc_m(&self.route, t_s);
             let run = self.follower.run_index();
             self.progress
@@ -39,9 +39,9 @@ impl DroneRun {
             !braking && bound_m > 0.0 && self.tracking_distance_m().is_some_and(|e| e > bound_m);
         if straying {
             if !self.follower.holding_for_tracking() {
-                self.tracking_holds += 1;
+                self.tracking.holds += 1;
             }
-            self.tracking_hold_s += dt_s;
+            self.tracking.hold_s += dt_s;
         }
         self.follower.hold_for_tracking(straying);
     }
@@ -67,9 +67,11 @@ impl DroneRun {
             closed_gate(&self.route, &mut self.passed_events, progress, arc, t_s);
         let rest_point = self.follower.setpoint(&self.route, t_s).position_m;
         let settled = self
+            .telemetry
             .position_m
             .is_some_and(|p| distance_m(p, rest_point) <= settings.settle_tolerance_m);
-        let paused = self.link_lost || self.telemetry_stale || self.resuming() || swarm_paused;
+        let paused =
+            self.telemetry.link_lost || self.telemetry.stale || self.resuming() || swarm_paused;
         let was_gated = self.follower.hold == Hold::Gate;
         self.follower.set_paused(paused);
         self.enforce_tracking(settings, dt_s, paused || aborting);

@@ -25,7 +25,10 @@ impl DroneRun {
         events: &mut Vec<LogEvent>,
     ) {
         let start_m = self.route.start_m;
-        let ground = self.position_m.map_or([start_m[0], start_m[1], 0.0], |p| p);
+        let ground = self
+            .telemetry
+            .position_m
+            .map_or([start_m[0], start_m[1], 0.0], |p| p);
         if self.last_setpoint.is_none() {
             self.last_setpoint = Some(Setpoint::rest(ground));
         }
@@ -89,7 +92,7 @@ impl DroneRun {
                 }
                 let mode = self.flavour.external_control_mode();
                 let out_of_mode = current != mode.custom_mode;
-                if out_of_mode && !self.link_lost && !self.telemetry_stale {
+                if out_of_mode && !self.telemetry.link_lost && !self.telemetry.stale {
                     events.push(LogEvent::new(
                         since_arm_s,
                         Some(&self.id),

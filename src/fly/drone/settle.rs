@@ -19,6 +19,7 @@ impl DroneRun {
     /// at rest for [`SETTLE_HOLD`] without a break.
     pub(super) fn settled_at(&mut self, point_m: [f64; 3], tolerance_m: f64) -> bool {
         let here = self
+            .telemetry
             .position_m
             .is_some_and(|p| distance_m(p, point_m) <= tolerance_m);
         if !(here && self.at_rest()) {

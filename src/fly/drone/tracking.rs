@@ -4,27 +4,58 @@
 //! safety distance plus twice the mission's tracking error, so separation holds
 //! only while every vehicle stays within that of its setpoint. The plan holds a
 //! drone's setpoint while it strays further (`plan`), and the summary reports the
-//! error per drone and whether the bound held.
+//! error per drone and whether the bound held. One drone's record of all this is a
+//! [`Tracking`], owned by its `DroneRun`.
 //!
 //! A sample is compared with the setpoint streamed before it arrived, not the one
 //! streamed this tick: telemetry is up to a period old when it is read, and
 //! comparing it with a newer setpoint would charge the vehicle with our own delay.
 
-use super::DroneRun;
+use super::telemetry::Telemetry;
+use crate::fly::follower::Setpoint;
 use crate::fly::log::TrackingError;
 use crate::fly::path::distance_m;
-use crate::fly::phase::Phase;
+use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 /// How long streamed setpoints are remembered.
 const HISTORY: Duration = Duration::from_secs(1);
 
-impl DroneRun {
-    /// Remembers the setpoint streamed at `now` and records the tracking error of
-    /// the newest sample, in the phases where the drone follows our setpoints in the
-    /// air.
-    pub fn sample_tracking(&mut self, now: Instant) {
-        if let Some(s) = self.last_setpoint {
+/// One drone's tracking error: the setpoints recently streamed to it, the errors
+/// recorded, and how often its setpoint held for it.
+pub(super) struct Tracking {
+    /// Distances from telemetry to the streamed setpoint, metres.
+    errors_m: Vec<f64>,
+    /// Setpoints streamed in the last second, with when.
+    setpoint_history: VecDeque<(Instant, [f64; 3])>,
+    /// Times its setpoint waited for the vehicle to come back within the tracking error.
+    pub(super) holds: usize,
+    /// Seconds its setpoint waited so.
+    pub(super) hold_s: f64,
+}
+
+impl Tracking {
+    /// Nothing streamed or recorded yet.
+    pub(super) fn new() -> Self {
+        Self {
+            errors_m: Vec::new(),
+            setpoint_history: VecDeque::new(),
+            holds: 0,
+            hold_s: 0.0,
+        }
+    }
+
+    /// Remembers `last_setpoint`, streamed at `now`, and records the tracking error
+    /// of the newest sample in `telemetry` while the drone is `following` our
+    /// setpoints in the air and we can see it.
+    pub(super) fn sample(
+        &mut self,
+        now: Instant,
+        last_setpoint: Option<Setpoint>,
+        following: bool,
+        telemetry: &Telemetry,
+    ) {
+        if let Some(s) = last_setpoint {
             self.setpoint_history.push_back((now, s.position_m));
         }
         while self
@@ -34,19 +65,18 @@ impl DroneRun {
         {
             self.setpoint_history.pop_front();
         }
-        let following = matches!(self.phase, Phase::Flying | Phase::AtStart | Phase::AtGoal);
-        if !following || self.telemetry_stale || self.link_lost {
+        if !following || telemetry.stale || telemetry.link_lost {
             return;
         }
-        if let Some(e) = self.tracking_distance_m() {
-            self.tracking_m.push(e);
+        if let Some(e) = self.distance_m(telemetry) {
+            self.errors_m.push(e);
         }
     }
 
     /// Distance from the newest position sample to the setpoint streamed last before
     /// it arrived (the oldest remembered one if it is older still), metres.
-    pub fn tracking_distance_m(&self) -> Option<f64> {
-        let (p, received) = (self.position_m?, self.position_received?);
+    pub(super) fn distance_m(&self, telemetry: &Telemetry) -> Option<f64> {
+        let (p, received) = (telemetry.position_m?, telemetry.position_received?);
         let setpoint = self
             .setpoint_history
             .iter()
@@ -57,20 +87,10 @@ impl DroneRun {
         Some(distance_m(p, setpoint))
     }
 
-    /// Times its setpoint waited for the vehicle to come back within the bound.
-    pub fn tracking_holds(&self) -> usize {
-        self.tracking_holds
-    }
-
-    /// Seconds its setpoint waited so.
-    pub fn tracking_hold_s(&self) -> f64 {
-        self.tracking_hold_s
-    }
-
     /// Median, 95th percentile and maximum of the recorded tracking error (`None`
     /// before any sample).
-    pub fn tracking_error(&self) -> Option<TrackingError> {
-        let mut sorted = self.tracking_m.clone();
+    pub(super) fn error(&self) -> Option<TrackingError> {
+        let mut sorted = self.errors_m.clone();
         sorted.sort_by(f64::total_cmp);
         let at = |q: f64| {
             let i = ((sorted.len() - 1) as f64 * q).round() as usize;

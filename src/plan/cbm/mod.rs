@@ -1,22 +1,29 @@
 //! Conflict-Based Min-Cost-Flow (Ma & Koenig, AAMAS 2016): a best-first conflict tree
 //! over groups on top of one flow per group.
+//!
+//! This file holds the tree search itself; how a conflict splits a node is in
+//! `branch`, and the exact method the search starts beside itself is in `exact`.
+
+mod branch;
+mod exact;
 
 use super::conflict::{Conflict, first_conflict};
 use super::constraints::Constraints;
 use super::error::PlanError;
-use super::feasibility::impossible_groups;
 use super::low_level::{GroupRouting, LowLevelWork, min_horizon, route};
 use super::network::{GroupCells, Reservation};
 use super::options::PlanOptions;
-use super::sat::{self, SatOutcome, SatWork};
+use super::sat::SatOutcome;
 use super::space::Space;
 use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
+use branch::{Branch, branches};
+use exact::{Exact, StopOnDrop, exact};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::rc::Rc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::thread::ScopedJoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// A conflict-tree node: every group's constraints and routing.
 struct Node {
@@ -30,11 +37,6 @@ struct Node {
 
 /// Best-first order: makespan, then sum of costs, then fewer conflicts, then age.
 type Key = Reverse<(u32, u64, u64, u64)>;
-
-/// Arrangements the impossibility proof may visit at the hand-over (a few tens of
-/// milliseconds): enough for corridors and rings, far too few to waste time on a
-/// large instance.
-const PROOF_BUDGET: u64 = 20_000;
 
 pub(crate) struct Search<'a> {
     pub space: &'a Space,
@@ -420,101 +422,6 @@ fn snapshot(
         open_nodes: open,
         best_lower_bound_steps: bound_steps,
         elapsed: started.elapsed(),
-    }
-}
-
-/// What the exact method found on its thread.
-pub(crate) struct Exact {
-    /// The groups proven unable to reach their goals together, and the arrangements
-    /// searched to prove it.
-    impossible: Option<(Vec<usize>, u64)>,
-    /// The SAT encoding's answer, when it ran.
-    outcome: Option<SatOutcome>,
-    work: SatWork,
-    time: Duration,
-}
-
-/// The exact method: first the impossibility proof (a bounded search of every
-/// arrangement), then the SAT encoding horizon by horizon from `from`.
-fn exact(
-    space: &Space,
-    groups: &[GroupCells],
-    from: u32,
-    max_horizon: u32,
-    until: (Instant, &AtomicBool),
-) -> Exact {
-    let started = Instant::now();
-    let mut work = SatWork::default();
-    if let Some(found) = impossible_groups(space, groups, PROOF_BUDGET) {
-        return Exact {
-            impossible: Some(found),
-            outcome: None,
-            work,
-            time: started.elapsed(),
-        };
-    }
-    let outcome = sat::solve(space, groups, from, max_horizon, until, &mut work);
-    Exact {
-        impossible: None,
-        outcome: Some(outcome),
-        work,
-        time: started.elapsed(),
-    }
-}
-
-/// Sets its flag when dropped: the exact method's thread stops on every way out of
-/// the tree search.
-struct StopOnDrop<'s>(&'s AtomicBool);
-
-impl Drop for StopOnDrop<'_> {
-    fn drop(&mut self) {
-        self.0.store(true, Ordering::Relaxed);
-    }
-}
-
-enum Branch {
-    Vertex(u32, u32),
-    Edge(u32, u32, u32),
-}
-
-/// The ways out of a conflict. A vertex or edge conflict is forbidden to one group
-/// or the other. A rotation gets one branch per move: any valid plan leaves at least
-/// one move of the cycle unmade (else it holds that very rotation), so forbidding
-/// each move in turn to its group loses no solution.
-fn branches(conflict: Conflict) -> Vec<(usize, Branch)> {
-    match conflict {
-        Conflict::Vertex {
-            groups: [a, b],
-            cell,
-            step,
-        } => {
-            vec![
-                (a, Branch::Vertex(cell, step)),
-                (b, Branch::Vertex(cell, step)),
-            ]
-        }
-        Conflict::Edge {
-            groups: [a, b],
-            from,
-            to,
-            step,
-        } => {
-            vec![
-                (a, Branch::Edge(from, to, step)),
-                (b, Branch::Edge(to, from, step)),
-            ]
-        }
-        Conflict::Stacked {
-            groups: [a, b],
-            cells: [x, y],
-            step,
-        } => {
-            vec![(a, Branch::Vertex(x, step)), (b, Branch::Vertex(y, step))]
-        }
-        Conflict::Rotation { moves, step } => moves
-            .into_iter()
-            .map(|(group, from, to)| (group, Branch::Edge(from, to, step)))
-            .collect(),
     }
 }
 

@@ -1,0 +1,41 @@
+//! What is flown: a plan file checked against the mission, or a plan made now
+//! and checked as `swarmctl plan` does — either refused before anything starts.
+
+use anyhow::Context;
+use std::path::Path;
+use swarmctl::compiled::{self, CheckedPlan};
+use swarmctl::mission::Mission;
+use swarmctl::plan;
+
+/// The plan file, refused before anything starts unless it is a valid plan for
+/// `mission` whose composition passes the checker and is what the file holds
+/// (see `swarmctl::compiled::file`).
+pub(super) fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<CheckedPlan> {
+    Ok(swarmctl::compiled::file::load(path, mission)?)
+}
+
+/// Plans the mission now, then composes and checks the plan as `swarmctl plan`
+/// does; refused, naming the violation, before anything starts.
+pub(super) fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<CheckedPlan> {
+    let options = plan::PlanOptions {
+        deadline: std::time::Duration::try_from_secs_f64(deadline_s)
+            .ok()
+            .filter(|d| !d.is_zero())
+            .context("--deadline must be a positive number of seconds")?,
+        ..plan::PlanOptions::default()
+    };
+    let solution = plan::solve(mission, &options).with_context(|| {
+        format!(
+            "planning {}{}",
+            mission.name,
+            crate::commands::plan::reach_hint(mission)
+        )
+    })?;
+    let lower_bound_steps = solution.stats.initial_lower_bound_steps;
+    compiled::compile_plan(mission, &solution.plan, lower_bound_steps).with_context(|| {
+        format!(
+            "checking the plan of {} before flight (nothing was started)",
+            mission.name
+        )
+    })
+}

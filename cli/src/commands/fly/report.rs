@@ -1,0 +1,61 @@
+//! Reporting a flight: where its log goes, writing it, and the summary printed
+//! after it.
+
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+use swarmctl::fly;
+use swarmctl::mission::Mission;
+
+/// `flights/<mission file name>-<unix time>.json`: named after the file the user
+/// typed (`missions/formation-change.yaml` → `flights/formation-change-….json`),
+/// with anything but letters, digits, `-` and `_` replaced.
+pub(super) fn default_log_path(mission_file: &Path) -> PathBuf {
+    let unix_s = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let stem = mission_file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mission".into());
+    let name: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    PathBuf::from("flights").join(format!("{name}-{unix_s}.json"))
+}
+
+/// Writes the flight log to `path`, creating its directory.
+pub(super) fn write_log(path: &Path, log: &fly::FlightLog) -> anyhow::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    std::fs::write(path, serde_json::to_string(log)?)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
+}
+
+/// Prints how the flight went: the summary, every event, and where the log is.
+pub(super) fn print_report(mission: &Mission, log: &fly::FlightLog, path: &Path) {
+    println!("{}: flew {} drones", mission.name, log.drones.len());
+    for line in log.summary.lines() {
+        println!("{line}");
+    }
+    for e in &log.events {
+        println!(
+            "  event {:6.1} s {}{}",
+            e.t_s,
+            e.drone
+                .as_deref()
+                .map(|d| format!("{d}: "))
+                .unwrap_or_default(),
+            e.message
+        );
+    }
+    println!("  log                  {}", path.display());
+}

@@ -1,0 +1,103 @@
+//! The phase machine: the transitions that depend on commands and telemetry
+//! (dispatched to the takeoff, landing and hand-over steps), and those the loop
+//! and the contingencies ask for (start, lost, rejoined, retiring, landed).
+
+use super::DroneRun;
+use crate::fly::follower::Setpoint;
+use crate::fly::log::LogEvent;
+use crate::fly::phase::{FailReason, Phase, RetireStage, Retirement};
+use crate::fly::settings::LoopSettings;
+use std::time::Instant;
+
+impl DroneRun {
+    /// Phase transitions that depend on commands and telemetry rather than the plan.
+    pub fn advance(
+        &mut self,
+        settings: &LoopSettings,
+        now: Instant,
+        since_arm_s: f64,
+        events: &mut Vec<LogEvent>,
+    ) {
+        match &self.phase {
+            Phase::EnterOffboard { .. } => self.enter_offboard(now, since_arm_s, events),
+            Phase::Climb { .. } => self.climb(settings, now),
+            Phase::Takeoff { .. } => self.take_off(since_arm_s, events),
+            Phase::AwaitAltitude => self.await_altitude(settings),
+            Phase::AtStart => self.last_setpoint = Some(self.hold_start()),
+            Phase::Flying | Phase::AtGoal => self.resume_external_control(since_arm_s, events),
+            phase if phase.retiring_on_our_setpoints() => {
+                self.resume_external_control(since_arm_s, events);
+            }
+            Phase::HandedOver { .. } => self.request_hold(),
+            Phase::Landing { .. } => self.land(since_arm_s, events),
+            Phase::Lost { .. }
+            | Phase::AwaitLanding
+            | Phase::Retiring { .. }
+            | Phase::Landed
+            | Phase::Failed(_) => {}
+        }
+    }
+
+    /// A setpoint holding above the pad (where the route begins).
+    pub(super) fn hold_start(&self) -> Setpoint {
+        Setpoint::rest(self.route.start_m)
+    }
+
+    /// Gives up on the drone for `reason`, logging it.
+    pub(super) fn fail(
+        &mut self,
+        reason: FailReason,
+        since_arm_s: f64,
+        events: &mut Vec<LogEvent>,
+    ) {
+        events.push(LogEvent::new(
+            since_arm_s,
+            Some(&self.id),
+            &reason.to_string(),
+        ));
+        self.phase = Phase::Failed(reason);
+    }
+
+    /// Everyone is at the start: the plan clock runs.
+    pub fn start_plan(&mut self) {
+        self.phase = Phase::Flying;
+    }
+
+    /// Silent for too long: given up for now; its commanded motion pauses.
+    pub fn mark_lost(&mut self) {
+        self.follower.set_paused(true);
+        self.phase = Phase::Lost {
+            was_at_goal: matches!(self.phase, Phase::AtGoal),
+        };
+    }
+
+    /// Heard again after being lost: back where it was in the plan.
+    pub fn rejoin_plan(&mut self) {
+        if let Phase::Lost { was_at_goal } = self.phase {
+            self.phase = if was_at_goal {
+                Phase::AtGoal
+            } else {
+                Phase::Flying
+            };
+        }
+    }
+
+    /// Leaves the plan early for `why`: brakes and starts down at `stage`.
+    pub fn retire(&mut self, why: Retirement, stage: RetireStage) {
+        self.follower.halt();
+        self.retired = Some(why);
+        self.phase = Phase::Retiring { stage };
+    }
+
+    /// Moves a retiring drone to `stage` (waiting for its column, halting again).
+    pub fn set_retire_stage(&mut self, stage: RetireStage) {
+        if matches!(self.phase, Phase::Retiring { .. }) {
+            self.phase = Phase::Retiring { stage };
+        }
+    }
+
+    /// Its autopilot brought it down and disarmed it.
+    pub fn mark_landed(&mut self) {
+        self.phase = Phase::Landed;
+    }
+}
