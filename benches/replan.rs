@@ -8,9 +8,9 @@
 //! - *rest after a loss*: `plan::replan` alone, from where takeoff left the drones,
 //!   the first drone whose loss there can be replanned lost and its column blocked;
 //! - *splice mid-flight*: everything the flight computes between the freeze and
-//!   the new plan executing (`fly::splice::plan_splice`: replan, independent
+//!   the new plan executing (`fly::replanning::plan_splice`: replan, independent
 //!   check, schedule, routes), with the swarm frozen half-way through the
-//!   schedule (`fly::freeze`) and the first drone whose loss there can be
+//!   schedule (`fly::replanning::freeze_target`) and the first drone whose loss there can be
 //!   replanned lost. The in-flight latency adds the braking to rest (about 1.5 s
 //!   on the formation change, see the fault matrix).
 //!
@@ -21,9 +21,9 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use swarmctl::fly::freeze::{freeze_target, lost_voxels, replan_from_leg};
-use swarmctl::fly::path;
-use swarmctl::fly::splice::{SpliceInput, Survivor, plan_splice};
+use swarmctl::fly::replanning::{
+    SpliceInput, Survivor, freeze_target, lost_voxels, plan_splice, replan_from_leg, routes,
+};
 use swarmctl::generate::{GenerateOptions, generate};
 use swarmctl::mission::{self, Mission};
 use swarmctl::plan::{self, PlanOptions};
@@ -71,7 +71,7 @@ fn first_answerable_loss(
 fn frozen_mid_flight(m: &Mission, options: &PlanOptions) -> (SpliceInput, String) {
     let plan = plan::solve(m, options).expect("plan").plan;
     let checked = swarmctl::compiled::compile_plan(m, &plan, 0).expect("checked");
-    let routes = path::routes(&checked);
+    let routes = routes(&checked);
     let makespan_s = checked.compiled().execution.makespan_s;
     let t_s = makespan_s / 2.0;
     let frozen: Vec<_> = routes

@@ -441,14 +441,10 @@ fn vehicles_main() -> anyhow::Result<()> {
     let mission = swarmctl::import::load_any(&mission_path, None)?;
     let plan: DiscretePlan =
         serde_json::from_str(&std::fs::read_to_string(std::env::var(PLAN_ENV)?)?)?;
-    let configs = swarmctl_harness::bundled_sitl::vehicle_configs(
-        &mission,
-        &plan,
-        swarmctl_sitl::Flavour::Px4,
-        &[],
-    )?;
+    let configs =
+        swarmctl_bundled::vehicle_configs(&mission, &plan, swarmctl_sitl::Flavour::Px4, &[])?;
     let runtime = tokio::runtime::Runtime::new()?;
-    let (swarm, _) = runtime.block_on(swarmctl_harness::bundled_sitl::start(
+    let (swarm, _) = runtime.block_on(swarmctl_bundled::start(
         configs,
         mission.link.setpoint_rate_hz,
     ))?;

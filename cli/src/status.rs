@@ -20,7 +20,7 @@ use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
-use swarmctl::fly::log::LogEvent;
+use swarmctl::fly::LogEvent;
 use swarmctl::fly::{FlightObserver, FlightStatus};
 
 /// How to show status.

@@ -2,10 +2,10 @@
 //! and goes wrong is no error: its report lists the failures. These are the cases
 //! where there is nothing to report, because the run never got going.
 
-use crate::bundled_sitl::BundledSitlError;
-use swarmctl::fly::faults::FaultError;
 use swarmctl::mission::Problem;
 use swarmctl::plan::PlanError;
+use swarmctl_bundled::BundledSitlError;
+use swarmctl_sitl::faults::FaultError;
 
 /// What stopped a harness run before it produced a report.
 #[derive(Debug, thiserror::Error)]
@@ -65,6 +65,58 @@ pub enum HarnessError {
         /// The flag and what is wrong with it.
         #[from]
         source: FaultError,
+    },
+    /// The relay load benchmark was asked to put more vehicles in one relay than
+    /// one MAVLink network holds (or to use no relay).
+    #[error(
+        "{vehicles} drones in {relays} relays is more than 254 per relay (one MAVLink network each): give --relays {needed} or more"
+    )]
+    RelayShares {
+        /// Vehicles asked for.
+        vehicles: usize,
+        /// Relays asked for.
+        relays: usize,
+        /// The fewest relays that hold them.
+        needed: usize,
+    },
+    /// A file, socket or process the relay load benchmark needs could not be
+    /// made or reached.
+    #[error("{what}")]
+    Io {
+        /// What was being done, with the path.
+        what: String,
+        /// What the operating system said.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A relay process did not stop after SIGTERM (it was killed).
+    #[error("a relay did not stop within {timeout:?} of SIGTERM")]
+    RelayDidNotStop {
+        /// How long it was given.
+        timeout: std::time::Duration,
+    },
+    /// A relay's `--report` file is not the report a relay writes.
+    #[error("the relay's report {} is not valid", path.display())]
+    RelayReport {
+        /// The report file.
+        path: std::path::PathBuf,
+        /// What the JSON parser said.
+        #[source]
+        source: serde_json::Error,
+    },
+    /// The controller's Zenoh side (links to the relays, the truth watch) failed.
+    #[error(transparent)]
+    Relay {
+        /// What the relay crate said.
+        #[from]
+        source: swarmctl_relay::RelayError,
+    },
+    /// A flight through relays failed before takeoff.
+    #[error(transparent)]
+    Flight {
+        /// Why the flight was refused.
+        #[from]
+        source: swarmctl::fly::FlyError,
     },
     /// The bundled SITL refused the configuration or did not start.
     #[error(transparent)]

@@ -1,24 +1,22 @@
-//! Reproducible benchmark suites behind `swarmctl bench`, the fault matrix, the
-//! soak and load runners, and starting the bundled SITL for a mission.
+//! Reproducible benchmark suites behind `swarmctl bench`: the planner suites,
+//! the fault matrix, the soak, load and relay-load runners.
 //!
 //! Each suite is a list of seeded instances; the report gives medians and maxima, so
 //! a noisy shared machine shows as spread rather than as a wrong figure.
 
-pub mod bundled_sitl;
 mod error;
 pub mod fault_matrix;
 pub mod load;
 mod plan_suite;
+pub mod relays;
 pub mod resources;
 mod stats;
-mod truth;
 
 pub use error::HarnessError;
 pub use load::{LoadOptions, LoadReport, run_load};
 pub use plan_suite::{PlanSuite, PlanSuiteReport, run_plan_suite};
 pub use resources::{ProcessResources, process_resources};
 pub use stats::median;
-pub use truth::{true_min_scaled_separation, true_min_separation_m};
 
 /// The process's peak resident memory in bytes (Linux `VmHWM`), if known.
 /// Kept under its old name for callers of the crate root; it is

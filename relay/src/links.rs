@@ -290,7 +290,7 @@ mod tests {
     use super::message_id;
     use mavlink::MavHeader;
     use mavlink::dialects::common::{MavMessage, SET_POSITION_TARGET_LOCAL_NED_DATA};
-    use swarmctl::link::transport::encode_frame;
+    use swarmctl::link::wire::encode_frame;
 
     #[test]
     fn setpoint_frames_are_told_apart_by_their_message_id() {

@@ -21,7 +21,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 use swarmctl::link::SigningKey;
-use swarmctl::link::transport::{decode_frame, encode_frame};
+use swarmctl::link::wire::{decode_frame, encode_frame};
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 use zenoh::liveliness::LivelinessToken;
@@ -157,7 +157,7 @@ impl Relay {
             .await
             .map_err(|e| declare_error(&telemetry_key, e))?;
         let (to_vehicle, mut frames) =
-            mpsc::channel::<Vec<u8>>(swarmctl::link::transport::CARRIED_QUEUE_FRAMES);
+            mpsc::channel::<Vec<u8>>(swarmctl::link::wire::CARRIED_QUEUE_FRAMES);
         for key in [self.keys.setpoint(&d.id), self.keys.command(&d.id)] {
             let to_vehicle = to_vehicle.clone();
             let subscriber = self

@@ -16,12 +16,9 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use swarmctl::world::Separation;
+use swarmctl_sitl::truth;
 use tokio::task::JoinHandle;
 use zenoh::pubsub::Subscriber;
-
-/// Below this height, metres, a vehicle is on the ground: close pairs on the
-/// ground are parked, not a separation loss (as the in-process truth counts).
-const AIRBORNE_M: f32 = 0.1;
 
 /// One vehicle's true state.
 #[derive(Debug, Clone, PartialEq)]
@@ -174,7 +171,7 @@ impl TruthWatch {
         let period = Duration::from_secs_f64(1.0 / rate_hz.clamp(1.0, 100.0));
         let task = tokio::spawn(async move {
             let mut tick = tokio::time::interval(period);
-            let mut airborne: Vec<([f32; 3], [f32; 3])> = Vec::new();
+            let mut airborne: Vec<[f32; 3]> = Vec::new();
             loop {
                 tick.tick().await;
                 let mut s = compare.lock().unwrap_or_else(|e| e.into_inner());
@@ -185,12 +182,17 @@ impl TruthWatch {
                     vehicles += 1;
                     let speed = r.velocity_ned_mps.iter().map(|v| v * v).sum::<f32>().sqrt();
                     top_speed_mps = top_speed_mps.max(speed);
-                    if -r.position_ned_m[2] > AIRBORNE_M {
-                        airborne.push((r.position_ned_m, r.velocity_ned_mps));
+                    // On the ground, close pairs are parked, not a separation
+                    // loss (as the in-process truth counts).
+                    if truth::is_airborne(&r.position_ned_m) {
+                        airborne.push(r.position_ned_m);
                     }
                 }
                 s.report.top_speed_mps = s.report.top_speed_mps.max(f64::from(top_speed_mps));
-                let (min_m, min_scaled) = closest(&airborne, ellipsoid.as_ref());
+                let min_m = truth::min_separation_m(&airborne);
+                let min_scaled = ellipsoid
+                    .as_ref()
+                    .map(|e| truth::min_scaled_separation(&airborne, |d| e.scaled(d)));
                 let report = &mut s.report;
                 report.min_separation_m = report.min_separation_m.min(min_m);
                 if let (Some(worst), Some(now)) =
@@ -215,26 +217,6 @@ impl TruthWatch {
     }
 }
 
-/// Smallest distance, and smallest scaled separation under `ellipsoid`, among
-/// `airborne` states (∞ with fewer than two).
-fn closest(
-    airborne: &[([f32; 3], [f32; 3])],
-    ellipsoid: Option<&Separation>,
-) -> (f64, Option<f64>) {
-    let mut min_d2 = f32::INFINITY;
-    let mut min_scaled = f64::INFINITY;
-    for (k, (a, _)) in airborne.iter().enumerate() {
-        for (b, _) in &airborne[k + 1..] {
-            let d: [f32; 3] = std::array::from_fn(|c| a[c] - b[c]);
-            min_d2 = min_d2.min(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            if let Some(e) = ellipsoid {
-                min_scaled = min_scaled.min(e.scaled(d.map(f64::from)));
-            }
-        }
-    }
-    (f64::from(min_d2.sqrt()), ellipsoid.map(|_| min_scaled))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -257,14 +239,5 @@ mod tests {
         assert_eq!(decode(&bytes), Some(records));
         assert_eq!(decode(&bytes[..bytes.len() - 1]), None);
         assert_eq!(decode(&[]), Some(Vec::new()));
-    }
-
-    #[test]
-    fn closest_pairs_only_airborne_vehicles_it_is_given() {
-        let up = |x: f32| ([x, 0.0, -2.0], [0.0; 3]);
-        let (d, scaled) = closest(&[up(0.0), up(0.7), up(3.0)], None);
-        assert!((d - 0.7).abs() < 1e-6);
-        assert_eq!(scaled, None);
-        assert_eq!(closest(&[up(0.0)], None).0, f64::INFINITY);
     }
 }

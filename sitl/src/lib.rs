@@ -31,6 +31,7 @@ mod commands;
 pub mod config;
 pub mod dynamics;
 pub mod error;
+pub mod faults;
 pub mod forge;
 pub mod geo;
 mod link;
@@ -42,12 +43,14 @@ mod setpoints;
 pub mod streams;
 pub mod swarm;
 pub mod telemetry;
+pub mod truth;
 pub mod vehicle;
 #[cfg(test)]
 mod vehicle_tests;
 
 pub use config::{Faults, Flavour, LinkDrop, VehicleConfig};
 pub use error::SitlError;
+pub use faults::{FaultError, FaultSpec, faults_for, parse_fault};
 pub use geo::GeoPoint;
 pub use link::LinkStats;
 pub use mode::FlightMode;

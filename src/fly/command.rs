@@ -9,7 +9,7 @@
 //! tick. Polling 200 join handles inside the budget once read handle 129 onwards
 //! as unfinished and failed drones whose command had succeeded.
 
-use crate::link::{Flavour, LinkError, Session};
+use crate::link::{LinkError, ModeRequest, Session};
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::sync::mpsc;
@@ -46,6 +46,43 @@ pub enum CommandError {
     TaskEnded,
 }
 
+/// A command a phase waits for: not sent yet, in flight, or answered.
+#[derive(Debug, Default)]
+pub enum Request {
+    /// Not sent yet (some phases wait before sending).
+    #[default]
+    NotSent,
+    /// Sent; its result has not arrived.
+    Sent,
+    /// Answered; the phase acts on the result on its next step.
+    Done(Result<(), CommandError>),
+}
+
+impl Request {
+    /// Takes an answered result out, leaving `NotSent`; `None` while unsent or in flight.
+    pub fn take_done(&mut self) -> Option<Result<(), CommandError>> {
+        match std::mem::take(self) {
+            Request::Done(result) => Some(result),
+            other => {
+                *self = other;
+                None
+            }
+        }
+    }
+}
+
+/// The modes the commands switch to, in the vehicle's own numbers (its
+/// flavour's: see `autopilot::Flavour::modes`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Modes {
+    /// The mode that follows our setpoints (PX4 OFFBOARD, ArduPilot GUIDED).
+    pub external_control: ModeRequest,
+    /// Position hold without our stream.
+    pub hold: ModeRequest,
+    /// Land where the vehicle is.
+    pub land: ModeRequest,
+}
+
 /// A finished command: the drone's index in plan order, what was asked, and how it went.
 pub type CommandDone = (usize, Command, Result<(), CommandError>);
 
@@ -72,9 +109,9 @@ pub fn channel() -> (CommandSender, CommandInbox) {
 impl CommandSender {
     /// Runs `command` for drone `drone` (plan order) in its own task; its result
     /// arrives in the [`CommandInbox`].
-    pub fn spawn(&self, drone: usize, command: Command, session: Arc<Session>, flavour: Flavour) {
+    pub fn spawn(&self, drone: usize, command: Command, session: Arc<Session>, modes: Modes) {
         self.spawn_future(drone, command, async move {
-            execute(command, &session, flavour).await
+            execute(command, &session, modes).await
         });
     }
 
@@ -136,15 +173,15 @@ impl Drop for Reply {
 }
 
 /// What each command does on the link.
-async fn execute(command: Command, session: &Session, flavour: Flavour) -> Result<(), LinkError> {
+async fn execute(command: Command, session: &Session, modes: Modes) -> Result<(), LinkError> {
     match command {
         Command::EnterExternalControl | Command::ResumeExternalControl => {
-            session.set_mode(flavour.external_control_mode()).await
+            session.set_mode(modes.external_control).await
         }
         Command::Takeoff { height_m } => session.takeoff(height_m).await,
-        Command::Hold => session.set_mode(flavour.hold_mode()).await,
+        Command::Hold => session.set_mode(modes.hold).await,
         Command::Land => {
-            if let Err(e) = session.set_mode(flavour.land_mode()).await {
+            if let Err(e) = session.set_mode(modes.land).await {
                 // Still on the ground (takeoff never happened): disarming is the landing.
                 if session.state().on_ground() {
                     return session.disarm(false).await;

@@ -30,8 +30,9 @@ pub use super::phase::{RetireStage, Retirement};
 pub const LOW_BATTERY_PCT: i8 = 25;
 /// Horizontal clearance margin over the safety distance for a vertical descent.
 const COLUMN_MARGIN_M: f64 = 0.1;
-/// Below this height a drone is on the ground.
-const AIRBORNE_M: f64 = 0.1;
+/// Below this height, by telemetry, a drone is on the ground (the simulator
+/// judges its truth with its own threshold, `swarmctl_sitl::truth`).
+const ON_GROUND_BELOW_M: f64 = 0.1;
 /// A drone at rest moves slower than this in telemetry.
 const AT_REST_MPS: f64 = 0.1;
 /// How long to let the swarm move before trying again to clear a blocked descent.
@@ -111,7 +112,7 @@ impl Clearance {
 
     /// A drone at `lander` must not come down with another at `other` below it.
     pub fn blocks(&self, lander: [f64; 3], other: [f64; 3]) -> bool {
-        let clearance_m = if other[2] > AIRBORNE_M {
+        let clearance_m = if other[2] > ON_GROUND_BELOW_M {
             self.airborne_m
         } else {
             self.grounded_m
@@ -136,7 +137,7 @@ pub fn column_blocker(drones: &[DroneRun], i: usize, clearance: Clearance) -> Op
         let now = other.position_m()?;
         // A lost drone may be falling (or already down) anywhere below its last
         // known position: its whole column is blocked, above the lander or not.
-        if matches!(other.phase(), Phase::Lost { .. }) && now[2] > AIRBORNE_M {
+        if matches!(other.phase(), Phase::Lost { .. }) && now[2] > ON_GROUND_BELOW_M {
             return (horizontal_m(p, now) < clearance.airborne_m).then_some(j);
         }
         let stop = other

@@ -16,34 +16,47 @@
 //! never past a gate whose predecessors are unobserved), so slack absorbs a late
 //! drone without replanning and only the drones that depend on it wait.
 
-pub mod command;
-pub mod contingency;
-pub mod drone;
-pub mod error;
-pub mod executor;
-pub mod faults;
-pub mod follower;
-pub mod freeze;
-pub mod gate;
-pub mod log;
-pub mod observer;
-pub mod path;
-pub mod phase;
-pub mod placement;
-pub mod preflight;
-pub mod replan;
-pub mod report;
-pub mod settings;
-pub mod splice;
-pub mod tap;
+mod autopilot;
+mod command;
+mod contingency;
+mod drone;
+mod error;
+mod executor;
+mod follower;
+mod freeze;
+mod gate;
+mod log;
+mod observer;
+mod options;
+mod path;
+mod phase;
+mod placement;
+mod preflight;
+mod replan;
+mod report;
+mod settings;
+mod splice;
+mod tap;
 mod unaccounted;
-pub mod vehicle_limits;
+mod vehicle_limits;
 
 pub use error::FlyError;
-pub use faults::{FaultSpec, parse_fault};
-pub use log::{DroneLog, FlightLog, ReplanRecord, Summary};
+pub use log::{
+    DroneLog, FlightLog, LogEvent, PLAN_STARTED, ReplanRecord, SPEED_TOLERANCE, Summary,
+    TrackingError,
+};
 pub use observer::{DroneStatus, FlightObserver, FlightStatus};
-pub use placement::FrameSource;
+pub use options::{FlyOptions, VehicleLink};
+pub use placement::{FrameFix, FrameSource};
+pub use replan::ReplanOptions;
+
+/// The pieces of a replan in flight, public for the replan benchmark
+/// (`benches/replan.rs`), which times them apart from a flight.
+pub mod replanning {
+    pub use super::freeze::{freeze_target, lost_voxels, replan_from_leg};
+    pub use super::path::routes;
+    pub use super::splice::{Splice, SpliceError, SpliceInput, Survivor, plan_splice};
+}
 
 use crate::compiled::{self, CheckedPlan};
 use crate::link::Session;
@@ -54,10 +67,6 @@ use follower::Follower;
 use settings::LoopSettings;
 use std::sync::Arc;
 use std::time::Instant;
-
-pub use options::{FlyOptions, VehicleLink};
-
-mod options;
 
 /// Flies `plan` for `mission`: composes and checks it ([`compiled::compile_plan`],
 /// refusing before any vehicle is contacted when a limit breaks), then

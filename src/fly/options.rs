@@ -28,7 +28,7 @@ impl VehicleLink {
         }
     }
 
-    /// A vehicle whose frames `link` carries (see [`crate::link::transport`]).
+    /// A vehicle whose frames `link` carries (see [`crate::link::carried`]).
     pub fn carried(link: Arc<CarriedLink>, system_id: u8) -> Self {
         Self {
             endpoint: link.label().to_string(),

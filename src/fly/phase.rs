@@ -4,43 +4,21 @@
 //! phases) and `contingency` (which takes drones out of the plan), so neither
 //! needs the other to name a phase.
 
-use super::command::CommandError;
-use std::time::Instant;
-
-/// A command a phase waits for: not sent yet, in flight, or answered.
-#[derive(Debug, Default)]
-pub enum Request {
-    /// Not sent yet (some phases wait before sending).
-    #[default]
-    NotSent,
-    /// Sent; its result has not arrived.
-    Sent,
-    /// Answered; the phase acts on the result on its next step.
-    Done(Result<(), CommandError>),
-}
-
-impl Request {
-    /// Takes an answered result out, leaving `NotSent`; `None` while unsent or in flight.
-    pub fn take_done(&mut self) -> Option<Result<(), CommandError>> {
-        match std::mem::take(self) {
-            Request::Done(result) => Some(result),
-            other => {
-                *self = other;
-                None
-            }
-        }
-    }
-}
+use super::autopilot::Takeoff;
+use super::command::{CommandError, Request};
 
 /// Why a drone was given up (it holds or lands by itself). Display is the log text.
 #[derive(Debug, thiserror::Error)]
 pub enum FailReason {
-    /// PX4 refused (or never confirmed) the switch to OFFBOARD before takeoff.
-    #[error("OFFBOARD refused: {0}")]
-    Offboard(CommandError),
-    /// ArduPilot refused its takeoff command while still on the ground.
-    #[error("takeoff refused: {0}")]
-    Takeoff(CommandError),
+    /// The autopilot refused (or never confirmed) a step of its takeoff: PX4 the
+    /// switch to OFFBOARD, ArduPilot the takeoff command.
+    #[error("{step} refused: {error}")]
+    Takeoff {
+        /// The step, as the autopilot's ground station names it.
+        step: &'static str,
+        /// What the vehicle answered.
+        error: CommandError,
+    },
     /// Landing was refused or touchdown and disarm never showed in telemetry.
     #[error("landing: {0}")]
     Land(CommandError),
@@ -72,27 +50,9 @@ pub enum RetireStage {
 /// Where a drone is in the flight.
 #[derive(Debug)]
 pub enum Phase {
-    /// PX4: streaming a ground hold so OFFBOARD is accepted, then switching.
-    EnterOffboard {
-        /// When the ground hold started (OFFBOARD is asked for 0.5 s later).
-        since: Instant,
-        /// The OFFBOARD switch.
-        request: Request,
-    },
-    /// PX4: climbing on our setpoints along a vertical profile started at `t0`.
-    Climb {
-        /// When the climb profile started.
-        t0: Instant,
-        /// Height the climb started from, ENU metres.
-        from_z_m: f64,
-    },
-    /// ArduPilot: the vehicle's own takeoff to the start altitude.
-    Takeoff {
-        /// The takeoff command.
-        request: Request,
-    },
-    /// ArduPilot: takeoff accepted, climbing to the start altitude.
-    AwaitAltitude,
+    /// Armed on the pad, on its way up to the start voxel the way its autopilot
+    /// takes off (see `autopilot::Flavour::takeoff`).
+    TakingOff(Box<dyn Takeoff>),
     /// Hovering above its pad until everyone is.
     AtStart,
     /// Following the plan.
@@ -131,8 +91,7 @@ impl Phase {
     /// The phase's name in the status view.
     pub fn name(&self) -> &'static str {
         match self {
-            Phase::EnterOffboard { .. } => "offboard",
-            Phase::Climb { .. } | Phase::Takeoff { .. } | Phase::AwaitAltitude => "takeoff",
+            Phase::TakingOff(takeoff) => takeoff.name(),
             Phase::AtStart => "at start",
             Phase::Flying => "flying",
             Phase::AtGoal => "at goal",

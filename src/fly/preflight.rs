@@ -2,9 +2,10 @@
 //! its start and passes its pre-arm checks — all before anybody arms. Then arming,
 //! all or nothing: if one vehicle refuses, everyone already armed is disarmed.
 
+use super::autopilot::{self, Flavour};
 use super::error::FlyError;
 use super::placement::{self, FrameSource, Placed, PlacementRules};
-use crate::link::{Flavour, Session};
+use crate::link::Session;
 use crate::mission::{Geodetic, Limits};
 use std::sync::Arc;
 use std::time::Duration;
@@ -44,10 +45,16 @@ async fn check_one(
     pad_enu_m: [f64; 3],
     limits: PreflightLimits,
 ) -> Result<Checked, String> {
-    let flavour = session
+    let announced = session
         .wait_heartbeat(limits.heartbeat_timeout)
         .await
         .map_err(|e| format!("{id} ({}): {e}", session.endpoint))?;
+    let flavour = autopilot::from_heartbeat(announced).ok_or_else(|| {
+        format!(
+            "{id} ({}): system {} is not a PX4 or ArduPilot autopilot ({announced:?})",
+            session.endpoint, session.system_id
+        )
+    })?;
     session
         .request_rates(limits.position_rate_hz)
         .await
@@ -162,7 +169,7 @@ async fn wait_ready(id: &str, session: &Session, within: Duration) -> Result<(),
 #[derive(Debug, Clone, Copy)]
 pub struct Checked {
     /// Its autopilot family.
-    pub flavour: Flavour,
+    pub flavour: &'static dyn Flavour,
     /// Its local frame.
     pub placed: Placed,
     /// How far ahead its acceleration feed-forward is sent, seconds
@@ -211,14 +218,14 @@ pub async fn check_all(
 pub async fn arm_all(
     ids: &[String],
     sessions: &[Arc<Session>],
-    flavours: &[Flavour],
+    flavours: &[&'static dyn Flavour],
 ) -> Result<(), FlyError> {
     let mut set = JoinSet::new();
     for (i, session) in sessions.iter().enumerate() {
         let session = session.clone();
         let flavour = flavours[i];
         set.spawn(async move {
-            if flavour == Flavour::Ardupilot {
+            if flavour.external_control_before_arming() {
                 session.set_mode(flavour.external_control_mode()).await?;
             }
             session.arm().await.map(|()| i)

@@ -42,7 +42,7 @@ pub fn drone_logs(
                 id: d.id().to_string(),
                 system_id: v.system_id,
                 endpoint: v.endpoint.clone(),
-                autopilot: Some(d.flavour().to_string()),
+                autopilot: Some(d.flavour().autopilot().to_string()),
                 goal_m: d.route().goal_m(),
                 final_distance_to_goal_m: d.final_distance_to_goal_m(),
                 gating_waits: d.gating_waits(),

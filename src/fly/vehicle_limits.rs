@@ -11,33 +11,16 @@
 //! so its target does not fall behind and overshoot to catch up. The autopilot's
 //! own landing is slowed to the commanded speed, never sped up (see [`parameters`]).
 
-use crate::link::{Flavour, Session};
+use super::autopilot::{Flavour, OwnLimits, Setting};
+use crate::link::Session;
 use crate::mission::Limits;
 
-/// What one parameter is set to.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Setting {
-    /// Exactly this value.
-    To(f32),
-    /// The vehicle's own value, lowered to this if above it: for the speeds of the
-    /// autopilot's own landing, which an operator may have set slower than the
-    /// mission's limit and which must never be raised to it (a 5 m/s mission must
-    /// not touch down at 5 m/s).
-    AtMost(f32),
-}
-
 /// How far past its own speed maximum a vehicle goes, as a fraction, by truth:
-/// the room [`parameters`] leaves between that maximum and the mission's limit.
-/// PX4 SIH's velocity estimate is noisy (its accelerometer up to 1.7 m/s² per
-/// sample) and its controller follows it: with `MPC_XY_VEL_MAX` at a 1 m/s limit,
-/// a vehicle catching up with its setpoints went to 1.07 m/s by telemetry and
-/// 1.14 m/s by truth (CI, 2026-12-02). ArduCopter stays within 1 % of
-/// `WPNAV_SPEED` (truth 1.01 m/s at 1 m/s, 8 vehicles): none.
-pub fn own_speed_overshoot(flavour: Flavour) -> f64 {
-    match flavour {
-        Flavour::Px4 => 0.15,
-        Flavour::Ardupilot => 0.0,
-    }
+/// the room [`parameters`] leaves between that maximum and the mission's limit
+/// (PX4 SIH 0.15, ArduCopter none: see each flavour's
+/// [`Flavour::own_speed_overshoot`]).
+pub fn own_speed_overshoot(flavour: &dyn Flavour) -> f64 {
+    flavour.own_speed_overshoot()
 }
 
 /// The parameters set, in the order they are set, with what each gets from the
@@ -60,39 +43,18 @@ pub fn own_speed_overshoot(flavour: Flavour) -> f64 {
 /// PX4 clamps the landing speeds to `MPC_Z_VEL_MAX_DN` itself, so they are set
 /// before the maxima.
 pub fn parameters(
-    flavour: Flavour,
+    flavour: &dyn Flavour,
     limits: &Limits,
     commanded: &Limits,
 ) -> Vec<(&'static str, Setting)> {
-    let v_commanded = commanded.max_speed_mps as f32;
-    let v = (limits.max_speed_mps / (1.0 + own_speed_overshoot(flavour)))
-        .max(commanded.max_speed_mps) as f32;
-    let a = limits.max_accel_mps2 as f32;
-    let j = limits.max_jerk_mps3 as f32;
-    match flavour {
-        // Centimetres per second (squared), ArduCopter's units.
-        Flavour::Ardupilot => vec![
-            ("WPNAV_SPEED", Setting::To(100.0 * v)),
-            ("WPNAV_SPEED_UP", Setting::To(100.0 * v)),
-            ("WPNAV_SPEED_DN", Setting::To(100.0 * v)),
-            ("WPNAV_ACCEL", Setting::To(100.0 * a)),
-            ("WPNAV_ACCEL_Z", Setting::To(100.0 * a)),
-            // Metres per second cubed.
-            ("PSC_JERK_XY", Setting::To(j)),
-            ("PSC_JERK_Z", Setting::To(j)),
-            ("LAND_SPEED", Setting::AtMost(100.0 * v_commanded)),
-        ],
-        Flavour::Px4 => vec![
-            ("MPC_LAND_CRWL", Setting::AtMost(v_commanded)),
-            ("MPC_LAND_SPEED", Setting::AtMost(v_commanded)),
-            ("MPC_Z_V_AUTO_DN", Setting::AtMost(v_commanded)),
-            ("MPC_Z_V_AUTO_UP", Setting::AtMost(v_commanded)),
-            ("MPC_XY_VEL_MAX", Setting::To(v)),
-            ("MPC_Z_VEL_MAX_UP", Setting::To(v)),
-            ("MPC_Z_VEL_MAX_DN", Setting::To(v)),
-            ("MPC_ACC_HOR_MAX", Setting::To(a)),
-        ],
-    }
+    let max_speed_mps =
+        (limits.max_speed_mps / (1.0 + own_speed_overshoot(flavour))).max(commanded.max_speed_mps);
+    flavour.limit_parameters(OwnLimits {
+        max_speed_mps: max_speed_mps as f32,
+        commanded_speed_mps: commanded.max_speed_mps as f32,
+        max_accel_mps2: limits.max_accel_mps2 as f32,
+        max_jerk_mps3: limits.max_jerk_mps3 as f32,
+    })
 }
 
 /// Sets and reads back every parameter of [`parameters`], and returns the
@@ -101,7 +63,7 @@ pub fn parameters(
 pub async fn apply(
     id: &str,
     session: &Session,
-    flavour: Flavour,
+    flavour: &dyn Flavour,
     limits: &Limits,
     commanded: &Limits,
 ) -> Result<f64, String> {
@@ -141,14 +103,14 @@ pub async fn apply(
 /// applies the feed-forward to its thrust setpoint directly: no lead.
 pub async fn accel_lead_s(
     session: &Session,
-    flavour: Flavour,
+    flavour: &dyn Flavour,
 ) -> Result<f64, crate::link::LinkError> {
-    match flavour {
-        Flavour::Ardupilot => {
-            let tc_s = session.read_param("ATC_INPUT_TC").await?;
+    match flavour.accel_lead_parameter() {
+        Some(time_constant) => {
+            let tc_s = session.read_param(time_constant).await?;
             Ok(f64::from(tc_s).clamp(0.0, MAX_ACCEL_LEAD_S))
         }
-        Flavour::Px4 => Ok(0.0),
+        None => Ok(0.0),
     }
 }
 
@@ -159,6 +121,8 @@ pub const MAX_ACCEL_LEAD_S: f64 = 0.3;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fly::autopilot::flavour;
+    use crate::mission::Autopilot;
 
     fn limits(max_speed_mps: f64) -> Limits {
         Limits {
@@ -177,8 +141,8 @@ mod tests {
     #[test]
     fn landing_speeds_are_capped_at_the_commanded_speed_and_maxima_below_the_limit() {
         let (mission, commanded) = (limits(1.0), limits(0.5));
-        for flavour in [Flavour::Px4, Flavour::Ardupilot] {
-            let set = parameters(flavour, &mission, &commanded);
+        for autopilot in Autopilot::ALL {
+            let set = parameters(flavour(autopilot), &mission, &commanded);
             let capped: Vec<_> = set
                 .iter()
                 .filter_map(|(name, s)| match s {
@@ -188,26 +152,26 @@ mod tests {
                 .collect();
             assert!(
                 capped.iter().any(|(name, _)| name.contains("LAND_SPEED")),
-                "{flavour:?}: {set:?}"
+                "{autopilot}: {set:?}"
             );
-            assert!(capped.iter().all(|&(_, v)| match flavour {
-                Flavour::Px4 => v == 0.5,
-                Flavour::Ardupilot => v == 50.0,
+            assert!(capped.iter().all(|&(_, v)| match autopilot {
+                Autopilot::Px4 => v == 0.5,
+                Autopilot::Ardupilot => v == 50.0,
             }));
             let position = |wanted: &str| set.iter().position(|(name, _)| *name == wanted);
-            if flavour == Flavour::Px4 {
+            if autopilot == Autopilot::Px4 {
                 assert!(position("MPC_LAND_SPEED") < position("MPC_Z_VEL_MAX_DN"));
                 assert!(position("MPC_Z_V_AUTO_DN") < position("MPC_Z_VEL_MAX_DN"));
             }
             // The vehicle's own maxima leave it room to overshoot them within the
             // limit (PX4: 1 / 1.15 m/s), above the 0.5 m/s commanded.
-            let maxima: &[(&str, f32)] = match flavour {
-                Flavour::Px4 => &[
+            let maxima: &[(&str, f32)] = match autopilot {
+                Autopilot::Px4 => &[
                     ("MPC_XY_VEL_MAX", (1.0 / 1.15) as f32),
                     ("MPC_Z_VEL_MAX_UP", (1.0 / 1.15) as f32),
                     ("MPC_Z_VEL_MAX_DN", (1.0 / 1.15) as f32),
                 ],
-                Flavour::Ardupilot => &[
+                Autopilot::Ardupilot => &[
                     ("WPNAV_SPEED", 100.0),
                     ("WPNAV_SPEED_UP", 100.0),
                     ("WPNAV_SPEED_DN", 100.0),
@@ -223,12 +187,12 @@ mod tests {
     /// commanded speed it could not follow its trajectories.
     #[test]
     fn speed_maxima_are_never_below_the_commanded_speed() {
-        let set = parameters(Flavour::Px4, &limits(1.0), &limits(1.0));
+        let set = parameters(flavour(Autopilot::Px4), &limits(1.0), &limits(1.0));
         assert!(
             set.contains(&("MPC_XY_VEL_MAX", Setting::To(1.0))),
             "{set:?}"
         );
-        let set = parameters(Flavour::Px4, &limits(1.0), &limits(0.9));
+        let set = parameters(flavour(Autopilot::Px4), &limits(1.0), &limits(0.9));
         assert!(
             set.contains(&("MPC_XY_VEL_MAX", Setting::To(0.9))),
             "{set:?}"

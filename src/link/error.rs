@@ -21,14 +21,6 @@ pub enum LinkError {
         /// How long we waited, seconds.
         waited_s: f64,
     },
-    /// Something answers, but it is not an autopilot we know how to fly.
-    #[error("system {system_id} is not a PX4 or ArduPilot autopilot ({autopilot})")]
-    UnknownAutopilot {
-        /// The system id that answered.
-        system_id: u8,
-        /// Its HEARTBEAT autopilot field, as text.
-        autopilot: String,
-    },
     /// Every try of a command went unanswered (a silent or very lossy link).
     #[error("{command:?} was not acknowledged after {attempts} attempts")]
     NoAck {

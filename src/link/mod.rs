@@ -6,20 +6,28 @@
 //! acknowledged. [`frames`] is the only place the mission's ENU meets each vehicle's
 //! own local NED.
 
-pub mod error;
-pub mod flavour;
+mod error;
 pub mod frames;
-pub mod messages;
-pub mod receive;
-pub mod session;
-pub mod signing;
-pub mod telemetry;
-pub mod transport;
+mod messages;
+mod mode;
+mod receive;
+mod session;
+mod signing;
+mod telemetry;
+mod transport;
 
 pub use error::LinkError;
-pub use flavour::{Flavour, ModeRequest};
 pub use frames::VehicleFrame;
+pub use mode::ModeRequest;
 pub use session::{CommandPolicy, Session};
 pub use signing::{SigningKey, SigningKeyError};
 pub use telemetry::{PositionSample, VehicleState};
 pub use transport::{CarriedLink, Carrier, CarrierInbox, carried};
+
+/// The link's wire-level pieces, public for the simulator's fuzz tests and the
+/// relays, which speak the same frames: the receive fold every message goes
+/// through, and the framing of MAVLink carried over another transport.
+pub mod wire {
+    pub use super::receive::{REBOOT_BACKSTEP_MS, fold};
+    pub use super::transport::{CARRIED_QUEUE_FRAMES, decode_frame, encode_frame};
+}

@@ -35,7 +35,6 @@
 //!    autopilot that omits the extensions decodes to. The ACK is returned for the
 //!    caller to hand to whoever waits on a command; it is not part of the state.
 
-use super::flavour::Flavour;
 use super::messages::{AUTOPILOT_COMPONENT_ID, GCS_COMPONENT_ID, GCS_SYSTEM_ID};
 use super::telemetry::{PositionSample, VehicleState};
 use crate::mission::Geodetic;
@@ -68,8 +67,7 @@ pub fn fold(
     match message {
         MavMessage::HEARTBEAT(h) if from_autopilot => {
             state.last_heartbeat = Some(now);
-            state.flavour = Flavour::from_autopilot(h.autopilot);
-            state.autopilot_name = Some(format!("{:?}", h.autopilot));
+            state.autopilot = Some(h.autopilot);
             state.armed = h
                 .base_mode
                 .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
@@ -234,7 +232,7 @@ mod tests {
     }
 
     #[test]
-    fn heartbeat_from_the_autopilot_sets_armed_mode_and_flavour() {
+    fn heartbeat_from_the_autopilot_sets_armed_mode_and_autopilot() {
         let mut s = VehicleState::default();
         let now = Instant::now();
         fold(
@@ -246,7 +244,7 @@ mod tests {
         );
         assert!(s.armed);
         assert_eq!(s.custom_mode, 0x0006_0000);
-        assert_eq!(s.flavour, Some(Flavour::Px4));
+        assert_eq!(s.autopilot, Some(MavAutopilot::MAV_AUTOPILOT_PX4));
         assert_eq!(s.last_heartbeat, Some(now));
         assert_eq!(s.last_message, Some(now));
     }

@@ -1,8 +1,7 @@
 //! The latest known state of one vehicle, as its telemetry reported it.
 
-use super::flavour::Flavour;
 use crate::mission::Geodetic;
-use mavlink::dialects::common::MavLandedState;
+use mavlink::dialects::common::{MavAutopilot, MavLandedState};
 use std::time::Instant;
 
 /// One LOCAL_POSITION_NED sample, stamped on arrival.
@@ -26,14 +25,12 @@ pub struct VehicleState {
     pub last_heartbeat: Option<Instant>,
     /// The last message of any kind from the vehicle's system id: the link is alive.
     pub last_message: Option<Instant>,
-    /// The autopilot family from the HEARTBEAT (`None` for one we cannot fly).
-    pub flavour: Option<Flavour>,
-    /// HEARTBEAT autopilot field as text, for error messages about unknown autopilots.
-    pub autopilot_name: Option<String>,
+    /// The HEARTBEAT autopilot field: which autopilot firmware it runs.
+    pub autopilot: Option<MavAutopilot>,
     /// HEARTBEAT base_mode says SAFETY_ARMED.
     pub armed: bool,
     /// HEARTBEAT custom_mode: the flight mode in the autopilot's own encoding
-    /// (see [`super::flavour::ModeRequest::custom_mode`]).
+    /// (see [`super::mode::ModeRequest::custom_mode`]).
     pub custom_mode: u32,
     /// The newest LOCAL_POSITION_NED.
     pub position: Option<PositionSample>,

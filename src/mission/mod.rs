@@ -1,5 +1,6 @@
 //! Mission files: the schema users write, its validation and a commented template.
 
+mod autopilot;
 mod contest;
 mod error;
 mod legs;

@@ -4,6 +4,7 @@
 //! never a silently ignored setting. Coordinates are signed here so that a negative
 //! coordinate is reported as "outside the world" rather than as a type error.
 
+pub use super::autopilot::Autopilot;
 use serde::{Deserialize, Serialize};
 
 /// A voxel coordinate as written in a file, `[x, y, z]`.
@@ -300,43 +301,6 @@ impl LimitsSpec {
             (None, Some(e)) => e.horizontal_m,
             (None, None) => 0.0,
         }
-    }
-}
-
-/// Which autopilot firmware the vehicles run; decides offboard (PX4) or guided (ArduPilot).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Autopilot {
-    /// PX4: position setpoints in offboard mode (the default).
-    #[default]
-    Px4,
-    /// ArduPilot: position targets in guided mode.
-    Ardupilot,
-}
-
-impl Autopilot {
-    /// How far above a commanded speed this autopilot's position controller goes
-    /// while following swarmctl's setpoints, as a fraction: the headroom the
-    /// trajectories leave below the mission's speed limit. ArduCopter trails its
-    /// setpoint by some 8 cm at speed and overshoots the commanded speed catching up
-    /// at the end of every acceleration, by 4–6 % on one vehicle and up to 9 % in an
-    /// 8-vehicle swarm (SITL, 1 m/s, 2 m/s², 2.5 m/s³, acceleration led by
-    /// `ATC_INPUT_TC`, 2026-12-02). PX4 (and the bundled simulator's PX4 flavour)
-    /// apply the feed-forward directly: none.
-    pub fn speed_overshoot(self) -> f64 {
-        match self {
-            Autopilot::Px4 => 0.0,
-            Autopilot::Ardupilot => 0.06,
-        }
-    }
-}
-
-impl std::fmt::Display for Autopilot {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Autopilot::Px4 => "px4",
-            Autopilot::Ardupilot => "ardupilot",
-        })
     }
 }
 

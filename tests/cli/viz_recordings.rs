@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 use swarmctl::compiled::CompiledPlan;
-use swarmctl::fly::{DroneLog, FlightLog, Summary, log::LogEvent};
+use swarmctl::fly::{DroneLog, FlightLog, LogEvent, Summary};
 
 const MISSION: &str = "missions/swap-corridor.yaml";
 /// An ellipsoid mission: horizontal radius 0.25 m, vertical 0.75 m.
@@ -293,7 +293,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
             tracking_error: None,
             tracking_holds: 0,
             tracking_hold_s: 0.0,
-            frame: swarmctl::fly::placement::FrameFix::Shared,
+            frame: swarmctl::fly::FrameFix::Shared,
             local_origin_enu_m: [0.0; 3],
             samples: d
                 .trajectory
@@ -309,7 +309,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         events: vec![LogEvent {
             t_s: offset_s,
             drone: None,
-            message: swarmctl::fly::log::PLAN_STARTED.into(),
+            message: swarmctl::fly::PLAN_STARTED.into(),
         }],
     }
 }

@@ -171,7 +171,7 @@ async fn a_spare_takes_the_lost_drones_goal() {
         faults: vec!["lose=b1@12s"],
         flavour: swarmctl_sitl::Flavour::Px4,
         expect: Expect::Replanned { drone: "b1" },
-        replan: swarmctl::fly::replan::ReplanOptions::default(),
+        replan: swarmctl::fly::ReplanOptions::default(),
     };
     let report = run_scenario(&mission, &plan, &scenario, LIMIT)
         .await

@@ -3,10 +3,11 @@
 #![allow(dead_code)] // each test uses a different subset
 
 use std::time::Duration;
-use swarmctl::fly::{self, FaultSpec, FlightLog, FlyError};
+use swarmctl::fly::{self, FlightLog, FlyError};
 use swarmctl::mission::{self, Mission};
 use swarmctl::plan::{self, DiscretePlan};
 use swarmctl_sitl::Flavour;
+use swarmctl_sitl::faults::{FaultSpec, parse_fault};
 
 pub fn load(path: &str) -> (Mission, DiscretePlan) {
     let mission = mission::load(&crate::support::repo_path(path)).expect("mission loads");
@@ -27,15 +28,14 @@ pub async fn fly_bundled(
 ) -> Result<FlightLog, FlyError> {
     let faults: Vec<FaultSpec> = faults
         .iter()
-        .map(|f| fly::parse_fault(f).expect("fault flag"))
+        .map(|f| parse_fault(f).expect("fault flag"))
         .collect();
-    let configs = swarmctl_harness::bundled_sitl::vehicle_configs(mission, plan, flavour, &faults)
-        .expect("configs");
-    let (swarm, links) =
-        swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz)
-            .await
-            .expect("sitl");
-    let options = swarmctl_harness::bundled_sitl::fly_options(links);
+    let configs =
+        swarmctl_bundled::vehicle_configs(mission, plan, flavour, &faults).expect("configs");
+    let (swarm, links) = swarmctl_bundled::start(configs, mission.link.setpoint_rate_hz)
+        .await
+        .expect("sitl");
+    let options = swarmctl_bundled::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let result = tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort_rx))
         .await

@@ -41,10 +41,8 @@ async fn refused_arming_aborts_with_nobody_airborne() {
 #[test]
 fn unknown_drone_in_a_fault_is_an_error_naming_it() {
     let (mission, plan) = load("missions/swap-corridor.yaml");
-    let fault = fly::parse_fault("slow=zz:0.5").expect("well-formed");
-    let e =
-        swarmctl_harness::bundled_sitl::vehicle_configs(&mission, &plan, Flavour::Px4, &[fault])
-            .unwrap_err();
+    let fault = swarmctl_sitl::parse_fault("slow=zz:0.5").expect("well-formed");
+    let e = swarmctl_bundled::vehicle_configs(&mission, &plan, Flavour::Px4, &[fault]).unwrap_err();
     assert!(e.to_string().contains("\"zz\""), "{e}");
 }
 
@@ -55,11 +53,10 @@ async fn preflight_only(
     configs: Vec<swarmctl_sitl::VehicleConfig>,
     frames: fly::FrameSource,
 ) -> Result<swarmctl::fly::FlightLog, FlyError> {
-    let (swarm, links) =
-        swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz)
-            .await
-            .expect("sitl");
-    let mut options = swarmctl_harness::bundled_sitl::fly_options(links);
+    let (swarm, links) = swarmctl_bundled::start(configs, mission.link.setpoint_rate_hz)
+        .await
+        .expect("sitl");
+    let mut options = swarmctl_bundled::fly_options(links);
     options.frames = frames;
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let result = tokio::time::timeout(
@@ -87,8 +84,7 @@ async fn vehicles_on_the_wrong_pads_are_refused_with_both_positions() {
         "the mission gives a geo origin"
     );
     let mut configs =
-        swarmctl_harness::bundled_sitl::vehicle_configs(&mission, &plan, Flavour::Px4, &[])
-            .expect("configs");
+        swarmctl_bundled::vehicle_configs(&mission, &plan, Flavour::Px4, &[]).expect("configs");
     let (b1, b2) = (configs[0].clone(), configs[1].clone());
     assert_eq!(
         (plan.drones[0].id.as_str(), plan.drones[1].id.as_str()),
@@ -128,8 +124,7 @@ async fn vehicles_on_the_wrong_pads_are_refused_with_both_positions() {
 async fn own_frames_read_as_shared_are_refused() {
     let (mission, plan) = load("missions/swap-corridor.yaml");
     let configs =
-        swarmctl_harness::bundled_sitl::vehicle_configs(&mission, &plan, Flavour::Px4, &[])
-            .expect("configs");
+        swarmctl_bundled::vehicle_configs(&mission, &plan, Flavour::Px4, &[]).expect("configs");
     match preflight_only(&mission, &plan, configs, fly::FrameSource::Shared).await {
         Err(FlyError::Preflight(lines)) => {
             assert!(

@@ -38,15 +38,13 @@ async fn signed_swarm(
 ) {
     let (mission, plan) = load("missions/swap-corridor.yaml");
     let mut configs =
-        swarmctl_harness::bundled_sitl::vehicle_configs(&mission, &plan, Flavour::Px4, &[])
-            .expect("configs");
+        swarmctl_bundled::vehicle_configs(&mission, &plan, Flavour::Px4, &[]).expect("configs");
     for c in &mut configs {
         c.signing_key = Some(key.bytes());
     }
-    let (swarm, links) =
-        swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz)
-            .await
-            .expect("sitl");
+    let (swarm, links) = swarmctl_bundled::start(configs, mission.link.setpoint_rate_hz)
+        .await
+        .expect("sitl");
     (mission, plan, swarm, links)
 }
 
@@ -132,7 +130,7 @@ async fn unsigned_third_party_commands_are_refused_while_the_signed_swarm_flies(
             }
         })
     };
-    let mut options = swarmctl_harness::bundled_sitl::fly_options(links);
+    let mut options = swarmctl_bundled::fly_options(links);
     options.signing_key = Some(key);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let log = tokio::time::timeout(
@@ -162,7 +160,7 @@ async fn unsigned_third_party_commands_are_refused_while_the_signed_swarm_flies(
 async fn a_controller_without_the_key_cannot_arm_a_signed_swarm() {
     let key = SigningKey::from_hex(&"a5".repeat(32)).expect("key");
     let (mission, plan, swarm, links) = signed_swarm(&key).await;
-    let options = swarmctl_harness::bundled_sitl::fly_options(links);
+    let options = swarmctl_bundled::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let result = tokio::time::timeout(
         Duration::from_secs(60),

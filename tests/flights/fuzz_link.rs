@@ -26,7 +26,7 @@ use proptest::test_runner::TestRunner;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
-use swarmctl::link::receive::{REBOOT_BACKSTEP_MS, fold};
+use swarmctl::link::wire::{REBOOT_BACKSTEP_MS, fold};
 use swarmctl::link::{CommandPolicy, Session, VehicleState};
 use swarmctl_sitl::forge;
 use tokio::net::UdpSocket;

@@ -46,7 +46,7 @@ fn soak_alone() {
         faults: Vec::new(),
         flavour: Flavour::Px4,
         expect: Expect::Completes,
-        replan: swarmctl::fly::replan::ReplanOptions::default(),
+        replan: swarmctl::fly::ReplanOptions::default(),
     };
     let mut after = Vec::new();
     for _ in 0..3 {

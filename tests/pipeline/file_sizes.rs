@@ -24,6 +24,7 @@ const ROOTS: &[&str] = &[
     "relay/src",
     "sitl/src",
     "viz/src",
+    "bundled/src",
 ];
 
 /// Every `.rs` file below `dir`, except under `tests/` directories.

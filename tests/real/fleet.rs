@@ -211,7 +211,7 @@ pub fn assert_flight_kept_the_guarantees(
         truth.samples
     );
     for d in &log.drones {
-        assert_eq!(d.frame, fly::placement::FrameFix::GpsOrigin, "{}", d.id);
+        assert_eq!(d.frame, fly::FrameFix::GpsOrigin, "{}", d.id);
     }
     assert!(s.safety_held, "telemetry separation {}", s.min_separation_m);
     assert!(
@@ -221,7 +221,7 @@ pub fn assert_flight_kept_the_guarantees(
         limits.safety_distance_m
     );
     assert!(s.speed_held, "telemetry speed {}", s.max_speed_mps);
-    let top_speed_mps = limits.max_speed_mps * (1.0 + fly::log::SPEED_TOLERANCE);
+    let top_speed_mps = limits.max_speed_mps * (1.0 + fly::SPEED_TOLERANCE);
     assert!(
         truth.top_speed_mps <= top_speed_mps,
         "true speed {:.3} m/s > {top_speed_mps:.3} m/s",

@@ -73,7 +73,7 @@ pub fn soak(mission: &Path, flights: usize) -> anyhow::Result<ExitCode> {
         faults: Vec::new(),
         flavour: Flavour::Px4,
         expect: Expect::Completes,
-        replan: swarmctl::fly::replan::ReplanOptions::default(),
+        replan: swarmctl::fly::ReplanOptions::default(),
     };
     println!("| Flight | Result | Duration | RSS after | Open fds after |\n|---|---|---|---|---|");
     let mut rss = Vec::new();

@@ -17,7 +17,7 @@ pub fn flight_plan_offset_s(log: &FlightLog) -> Option<f64> {
     log.events
         .iter()
         .find(|e| {
-            e.message == swarmctl::fly::log::PLAN_STARTED
+            e.message == swarmctl::fly::PLAN_STARTED
                 || e.message.starts_with(PLAN_STARTED_BEFORE_PADS)
         })
         .map(|e| e.t_s)

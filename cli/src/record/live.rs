@@ -11,7 +11,7 @@ use super::{RecordError, Sink, prepare};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use swarmctl::compiled::CompiledPlan;
-use swarmctl::fly::log::LogEvent;
+use swarmctl::fly::LogEvent;
 use swarmctl::fly::{FlightLog, FlightObserver};
 use swarmctl::mission::Mission;
 use swarmctl_viz::{
@@ -47,7 +47,7 @@ impl FlightObserver for Tap {
     fn event(&self, event: &LogEvent) {
         self.handle
             .try_event(event.t_s, event.drone.as_deref(), &event.message);
-        if event.message == swarmctl::fly::log::PLAN_STARTED
+        if event.message == swarmctl::fly::PLAN_STARTED
             && !self.plan_started.load(Ordering::Relaxed)
             && self.handle.try_plan_start(event.t_s)
         {

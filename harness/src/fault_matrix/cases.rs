@@ -2,7 +2,7 @@
 //! and the behaviour swarmctl promises under them.
 
 use std::time::Duration;
-use swarmctl::fly::replan::ReplanOptions;
+use swarmctl::fly::ReplanOptions;
 use swarmctl_sitl::Flavour;
 
 /// What a scenario must do.

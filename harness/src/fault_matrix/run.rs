@@ -8,11 +8,13 @@ use super::report::ScenarioReport;
 use crate::HarnessError;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
-use swarmctl::fly::{self, FaultSpec};
+use swarmctl::fly;
 use swarmctl::mission::Mission;
 use swarmctl::plan::DiscretePlan;
 use swarmctl::world::Separation;
 use swarmctl_sitl::Swarm;
+use swarmctl_sitl::faults::{FaultSpec, parse_fault};
+use swarmctl_sitl::truth;
 
 /// Flies `scenario` once with an overall `limit`.
 pub async fn run_scenario(
@@ -24,11 +26,11 @@ pub async fn run_scenario(
     let faults: Vec<FaultSpec> = scenario
         .faults
         .iter()
-        .map(|f| fly::parse_fault(f))
+        .map(|f| parse_fault(f))
         .collect::<Result<_, _>>()?;
-    let configs = crate::bundled_sitl::vehicle_configs(mission, plan, scenario.flavour, &faults)?;
-    let (swarm, links) = crate::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
-    let mut options = crate::bundled_sitl::fly_options(links);
+    let configs = swarmctl_bundled::vehicle_configs(mission, plan, scenario.flavour, &faults)?;
+    let (swarm, links) = swarmctl_bundled::start(configs, mission.link.setpoint_rate_hz).await?;
+    let mut options = swarmctl_bundled::fly_options(links);
     options.replan = scenario.replan;
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let started = std::time::Instant::now();
@@ -74,9 +76,10 @@ async fn watch_truth(
     let mut ever_airborne = false;
     let mut airborne = Vec::with_capacity(swarm.len());
     while !done.load(Ordering::Relaxed) {
-        min_m = min_m.min(crate::true_min_separation_m(swarm, &mut airborne));
+        truth::airborne_positions(swarm, &mut airborne);
+        min_m = min_m.min(truth::min_separation_m(&airborne));
         if let (Some(e), Some(min)) = (&ellipsoid, &mut min_scaled) {
-            *min = min.min(crate::true_min_scaled_separation(&airborne, e));
+            *min = min.min(truth::min_scaled_separation(&airborne, |d| e.scaled(d)));
         }
         ever_airborne |= !airborne.is_empty();
         tokio::time::sleep(Duration::from_millis(20)).await;

@@ -4,7 +4,7 @@ use super::report::{self, CpuUse, LoadReport};
 use super::vehicles::VehiclesAfter;
 use super::watch::{self, Watched, cpu_since_s};
 use super::{CONTROLLER_THREAD, LoadOptions, SITL_THREAD, WATCH_THREAD};
-use crate::{HarnessError, bundled_sitl, resources};
+use crate::{HarnessError, resources};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -24,9 +24,11 @@ pub fn fly_load(
     let fds_before = resources::process_resources().open_fds;
     let sitl_runtime = runtime(SITL_THREAD, "SITL")?;
     let controller_runtime = runtime(CONTROLLER_THREAD, "controller")?;
-    let configs = bundled_sitl::vehicle_configs(mission, plan, options.flavour, &[])?;
-    let (swarm, links) =
-        sitl_runtime.block_on(bundled_sitl::start(configs, mission.link.setpoint_rate_hz))?;
+    let configs = swarmctl_bundled::vehicle_configs(mission, plan, options.flavour, &[])?;
+    let (swarm, links) = sitl_runtime.block_on(swarmctl_bundled::start(
+        configs,
+        mission.link.setpoint_rate_hz,
+    ))?;
     let swarm = Arc::new(swarm);
     let flown = fly_watched(&controller_runtime, &swarm, mission, plan, links, options)?;
     // What the vehicles saw, before they go.
@@ -87,7 +89,7 @@ fn fly_watched(
     links: Vec<VehicleLink>,
     options: &LoadOptions,
 ) -> Result<Flown, HarnessError> {
-    let fly_options = crate::bundled_sitl::fly_options(links);
+    let fly_options = swarmctl_bundled::fly_options(links);
     let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     let done = Arc::new(AtomicBool::new(false));
     let ellipsoid = mission

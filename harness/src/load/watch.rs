@@ -6,7 +6,7 @@ use crate::resources;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use swarmctl::world::Separation;
-use swarmctl_sitl::Swarm;
+use swarmctl_sitl::{Swarm, truth};
 
 /// How often the watcher samples true positions.
 const TRUTH_PERIOD: Duration = Duration::from_millis(20);
@@ -48,9 +48,10 @@ pub(super) fn watch(swarm: &Swarm, ellipsoid: Option<Separation>, done: &AtomicB
     let mut next_sample = start;
     let mut airborne: Vec<[f32; 3]> = Vec::with_capacity(swarm.len());
     while !done.load(Ordering::Relaxed) {
-        min_m = min_m.min(crate::true_min_separation_m(swarm, &mut airborne));
+        truth::airborne_positions(swarm, &mut airborne);
+        min_m = min_m.min(truth::min_separation_m(&airborne));
         if let (Some(e), Some(min)) = (&ellipsoid, &mut min_scaled) {
-            *min = min.min(crate::true_min_scaled_separation(&airborne, e));
+            *min = min.min(truth::min_scaled_separation(&airborne, |d| e.scaled(d)));
         }
         if Instant::now() >= next_sample {
             next_sample += RESOURCE_PERIOD;

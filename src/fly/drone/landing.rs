@@ -2,10 +2,10 @@
 //! when it can never land safely, handing it to the autopilot's position hold.
 
 use super::DroneRun;
-use crate::fly::command::Command;
+use crate::fly::command::{Command, Request};
 use crate::fly::log::LogEvent;
 use crate::fly::path::distance_m;
-use crate::fly::phase::{FailReason, Phase, Request};
+use crate::fly::phase::{FailReason, Phase};
 
 impl DroneRun {
     /// Plan execution is over: notes the distance to the goal and queues the

@@ -2,35 +2,46 @@
 //! about it and where it is in the flight. Everything else (the loop, the
 //! contingencies) goes through its methods.
 //!
-//! Takeoff differs by autopilot and lives in `px4` (OFFBOARD climb on our
-//! setpoints) and `ardupilot` (the vehicle's own takeoff); following the plan
-//! is in `plan`; landing and hand-over in `landing`. What telemetry says and the
-//! link's health are a `Telemetry` the drone owns (`telemetry`), its tracking
-//! error a `Tracking` (`tracking`); the phase machine is in `transitions`;
-//! commands and the setpoint stream to the vehicle in `vehicle_io`; joining and
-//! leaving a replanned flight in `membership`.
+//! Each concern is a small type the drone owns, in its own file:
+//!
+//! - how its autopilot takes off: the [`Takeoff`](super::autopilot::Takeoff) its
+//!   flavour hands it (`fly::autopilot`), stepped by the phase machine in
+//!   `transitions`; back into external control after a failsafe left it: `resume`;
+//! - following the route: the `Follower` and its gates (`Gating`, `gating`), in
+//!   `plan`;
+//! - arriving: `Settling` (`settle`), within tolerance and at rest for a moment;
+//! - tracking: `Tracking` (`tracking`), telemetry against the setpoint streamed;
+//! - link health and what the vehicle last said: `Telemetry` (`telemetry`);
+//! - in or out of the plan: `Membership` (`membership`), changed as contingencies
+//!   and replans ask (`replanned`);
+//! - landing and hand-over: `landing`; what goes out to the vehicle: `vehicle_io`.
 
-mod ardupilot;
+mod gating;
 mod landing;
 mod membership;
 mod plan;
-mod px4;
+mod replanned;
+mod resume;
 mod settle;
 mod telemetry;
 mod tracking;
 mod transitions;
 mod vehicle_io;
 
-use super::command::CommandSender;
+use super::autopilot::Flavour;
+use super::command::{CommandSender, Request};
 use super::follower::{Follower, Setpoint};
 use super::gate::Progress;
 use super::log::{LogEvent, TrackingError};
 use super::observer::DroneStatus;
 use super::path::Route;
-use super::phase::{Phase, Request, Retirement};
+use super::phase::Phase;
 use super::placement::Placed;
 use super::settings::LoopSettings;
-use crate::link::{Flavour, Session, VehicleFrame};
+use crate::link::{Session, VehicleFrame};
+use gating::Gating;
+use membership::Membership;
+use settle::Settling;
 use std::sync::Arc;
 use std::time::Instant;
 use telemetry::Telemetry;
@@ -55,7 +66,7 @@ pub struct Vehicle {
     /// The MAVLink session with it.
     pub session: Arc<Session>,
     /// Its autopilot family.
-    pub flavour: Flavour,
+    pub flavour: &'static dyn Flavour,
     /// Its local frame, as pre-flight placed it.
     pub placed: Placed,
 }
@@ -66,34 +77,26 @@ pub struct DroneRun {
     index: usize,
     id: String,
     session: Arc<Session>,
-    flavour: Flavour,
+    flavour: &'static dyn Flavour,
     /// Its `mission_from_local` transform: every position in and out goes through it.
     placed: Placed,
     route: Route,
     follower: Follower,
     progress: Progress,
-    /// Events already behind the commanded position (see `gate::closed_gate`).
-    passed_events: usize,
     phase: Phase,
     /// What telemetry says about it, and its link's health.
     telemetry: Telemetry,
-    /// Why the drone left its plan early, if it did.
-    retired: Option<Retirement>,
-    /// A retired drone's remaining events have been released (it is down).
-    released: bool,
-    /// A replan flies on without it (lost, or retired and down).
-    left_plan: bool,
+    /// Whether it is still in the plan, and why not.
+    membership: Membership,
     /// PX4: re-entering OFFBOARD after the vehicle left it (offboard-loss failsafe).
     resume: Request,
-    gating_waits: usize,
-    gating_wait_s: f64,
-    /// The drone (plan order) this one waits for at a closed gate.
-    waiting_for: Option<u32>,
+    /// Where it stands at its route's gates, and its waits there.
+    gating: Gating,
     final_distance_to_goal_m: Option<f64>,
     /// Its tracking error and the holds it caused.
     tracking: Tracking,
-    /// Since when telemetry has shown it where it is going and at rest (see `settle`).
-    settled_since: Option<Instant>,
+    /// Since when telemetry has shown it where it is going and at rest.
+    settling: Settling,
     /// Last setpoint streamed (held during takeoff phases and aborts).
     last_setpoint: Option<Setpoint>,
     commands: CommandSender,
@@ -113,15 +116,7 @@ impl DroneRun {
             flavour,
             placed,
         } = vehicle;
-        let phase = match flavour {
-            Flavour::Px4 => Phase::EnterOffboard {
-                since: Instant::now(),
-                request: Request::NotSent,
-            },
-            Flavour::Ardupilot => Phase::Takeoff {
-                request: Request::NotSent,
-            },
-        };
+        let phase = Phase::TakingOff(flavour.takeoff());
         Self {
             index,
             id: route.id.clone(),
@@ -131,18 +126,13 @@ impl DroneRun {
             route,
             follower,
             progress: Progress::default(),
-            passed_events: 0,
             phase,
             telemetry: Telemetry::new(),
-            retired: None,
-            released: false,
-            left_plan: false,
+            membership: Membership::default(),
             resume: Request::NotSent,
-            gating_waits: 0,
-            gating_wait_s: 0.0,
-            waiting_for: None,
+            gating: Gating::default(),
             final_distance_to_goal_m: None,
-            settled_since: None,
+            settling: Settling::default(),
             tracking: Tracking::new(),
             last_setpoint: None,
             commands,
@@ -160,7 +150,7 @@ impl DroneRun {
     }
 
     /// The vehicle's autopilot family.
-    pub fn flavour(&self) -> Flavour {
+    pub fn flavour(&self) -> &'static dyn Flavour {
         self.flavour
     }
 
@@ -202,6 +192,17 @@ impl DroneRun {
     /// Latest telemetry speed, metres per second.
     pub fn speed_mps(&self) -> f64 {
         self.telemetry.speed_mps()
+    }
+
+    /// True once telemetry has shown the drone within `tolerance_m` of `point_m` and
+    /// at rest for [`settle::SETTLE_HOLD`] without a break.
+    fn settled_at(&mut self, point_m: [f64; 3], tolerance_m: f64) -> bool {
+        self.settling.at(&self.telemetry, point_m, tolerance_m)
+    }
+
+    /// Telemetry shows the drone at rest: at most [`settle::REST_SPEED_MPS`].
+    pub fn at_rest(&self) -> bool {
+        self.speed_mps() <= settle::REST_SPEED_MPS
     }
 
     /// Where telemetry says it would come to rest braking within `limits` from its
@@ -283,12 +284,12 @@ impl DroneRun {
 
     /// Times it stopped (or could not start) because a TPG predecessor was late.
     pub fn gating_waits(&self) -> usize {
-        self.gating_waits
+        self.gating.waits
     }
 
     /// Seconds it spent waiting at closed gates.
     pub fn gating_wait_s(&self) -> f64 {
-        self.gating_wait_s
+        self.gating.wait_s
     }
 
     /// Distance to its goal when plan execution ended, metres.
@@ -313,7 +314,7 @@ impl DroneRun {
                 .events
                 .get(self.progress.reached)
                 .map(|e| e.reach_s),
-            waiting_for: self.waiting_for,
+            waiting_for: self.gating.waiting_for,
         }
     }
 }

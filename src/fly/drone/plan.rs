@@ -63,8 +63,13 @@ impl DroneRun {
             self.follower.halt();
         }
         let arc = self.follower.arc_m(&self.route, t_s);
-        let (gate_arc_m, blocker) =
-            closed_gate(&self.route, &mut self.passed_events, progress, arc, t_s);
+        let (gate_arc_m, blocker) = closed_gate(
+            &self.route,
+            &mut self.gating.passed_events,
+            progress,
+            arc,
+            t_s,
+        );
         let rest_point = self.follower.setpoint(&self.route, t_s).position_m;
         let settled = self
             .telemetry
@@ -79,15 +84,8 @@ impl DroneRun {
             .follower
             .step(&self.route, t_s, dt_s, gate_arc_m, settled);
         // A paused drone waits for its own link, not for a TPG predecessor.
-        if self.follower.hold == Hold::Gate && !aborting && !paused {
-            if !was_gated {
-                self.gating_waits += 1;
-            }
-            self.gating_wait_s += dt_s;
-            self.waiting_for = blocker;
-        } else {
-            self.waiting_for = None;
-        }
+        let gated = self.follower.hold == Hold::Gate && !aborting && !paused;
+        self.gating.count(gated, was_gated, blocker, dt_s);
         self.last_setpoint = Some(setpoint);
         if matches!(self.phase, Phase::Flying)
             && self.follower.finished(&self.route)

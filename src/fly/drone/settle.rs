@@ -3,7 +3,7 @@
 //! drone passing through its goal is not "arrived", and no drone is told to land
 //! while it still moves.
 
-use super::DroneRun;
+use super::telemetry::Telemetry;
 use crate::fly::path::distance_m;
 use std::time::{Duration, Instant};
 
@@ -14,25 +14,35 @@ pub const REST_SPEED_MPS: f64 = 0.15;
 /// How long a drone must stay within tolerance and at rest to count as there.
 pub const SETTLE_HOLD: Duration = Duration::from_millis(300);
 
-impl DroneRun {
-    /// True once telemetry has shown the drone within `tolerance_m` of `point_m` and
-    /// at rest for [`SETTLE_HOLD`] without a break.
-    pub(super) fn settled_at(&mut self, point_m: [f64; 3], tolerance_m: f64) -> bool {
-        let here = self
-            .telemetry
+/// Since when telemetry has shown a drone where it is going and at rest.
+#[derive(Debug, Default)]
+pub(super) struct Settling {
+    since: Option<Instant>,
+}
+
+impl Settling {
+    /// True once `telemetry` has shown the drone within `tolerance_m` of `point_m`
+    /// and at rest for [`SETTLE_HOLD`] without a break.
+    pub(super) fn at(
+        &mut self,
+        telemetry: &Telemetry,
+        point_m: [f64; 3],
+        tolerance_m: f64,
+    ) -> bool {
+        let here = telemetry
             .position_m
             .is_some_and(|p| distance_m(p, point_m) <= tolerance_m);
-        if !(here && self.at_rest()) {
-            self.settled_since = None;
+        if !(here && telemetry.speed_mps() <= REST_SPEED_MPS) {
+            self.since = None;
             return false;
         }
         let now = Instant::now();
-        let since = *self.settled_since.get_or_insert(now);
+        let since = *self.since.get_or_insert(now);
         now.duration_since(since) >= SETTLE_HOLD
     }
 
-    /// Telemetry shows the drone at rest: at most 0.15 m/s (`REST_SPEED_MPS`).
-    pub fn at_rest(&self) -> bool {
-        self.speed_mps() <= REST_SPEED_MPS
+    /// Going somewhere new: arriving starts over.
+    pub(super) fn restart(&mut self) {
+        self.since = None;
     }
 }

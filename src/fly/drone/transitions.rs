@@ -3,6 +3,7 @@
 //! and the contingencies ask for (start, lost, rejoined, retiring, landed).
 
 use super::DroneRun;
+use crate::fly::autopilot::{TakeoffStep, TakeoffTick};
 use crate::fly::follower::Setpoint;
 use crate::fly::log::LogEvent;
 use crate::fly::phase::{FailReason, Phase, RetireStage, Retirement};
@@ -19,10 +20,7 @@ impl DroneRun {
         events: &mut Vec<LogEvent>,
     ) {
         match &self.phase {
-            Phase::EnterOffboard { .. } => self.enter_offboard(now, since_arm_s, events),
-            Phase::Climb { .. } => self.climb(settings, now),
-            Phase::Takeoff { .. } => self.take_off(since_arm_s, events),
-            Phase::AwaitAltitude => self.await_altitude(settings),
+            Phase::TakingOff(_) => self.take_off(settings, now, since_arm_s, events),
             Phase::AtStart => self.last_setpoint = Some(self.hold_start()),
             Phase::Flying | Phase::AtGoal => self.resume_external_control(since_arm_s, events),
             phase if phase.retiring_on_our_setpoints() => {
@@ -35,6 +33,40 @@ impl DroneRun {
             | Phase::Retiring { .. }
             | Phase::Landed
             | Phase::Failed(_) => {}
+        }
+    }
+
+    /// One tick of the takeoff its autopilot does: commands it asks for go out,
+    /// a refusal gives the drone up, and at the start voxel it waits for everyone.
+    fn take_off(
+        &mut self,
+        settings: &LoopSettings,
+        now: Instant,
+        since_arm_s: f64,
+        events: &mut Vec<LogEvent>,
+    ) {
+        let Phase::TakingOff(takeoff) = &mut self.phase else {
+            return;
+        };
+        let landed_state = self.session.state().landed_state;
+        let (telemetry, settling) = (&self.telemetry, &mut self.settling);
+        let mut settled_at = |point_m, tolerance_m| settling.at(telemetry, point_m, tolerance_m);
+        let mut tick = TakeoffTick {
+            now,
+            settings,
+            start_m: self.route.start_m,
+            position_m: self.telemetry.position_m,
+            landed_state,
+            setpoint: &mut self.last_setpoint,
+            settled_at: &mut settled_at,
+        };
+        match takeoff.step(&mut tick) {
+            TakeoffStep::Continue => {}
+            TakeoffStep::Send(command) => self.send(command),
+            TakeoffStep::AtStart => self.phase = Phase::AtStart,
+            TakeoffStep::Refused { step, error } => {
+                self.fail(FailReason::Takeoff { step, error }, since_arm_s, events);
+            }
         }
     }
 
@@ -85,7 +117,7 @@ impl DroneRun {
     /// Leaves the plan early for `why`: brakes and starts down at `stage`.
     pub fn retire(&mut self, why: Retirement, stage: RetireStage) {
         self.follower.halt();
-        self.retired = Some(why);
+        self.membership.retired = Some(why);
         self.phase = Phase::Retiring { stage };
     }
 

@@ -3,16 +3,20 @@
 //! wire) in the phases that fly on our setpoints.
 
 use super::DroneRun;
-use crate::fly::command::{Command, CommandError};
-use crate::fly::phase::{Phase, Request};
+use crate::fly::command::{Command, CommandError, Request};
+use crate::fly::phase::Phase;
 use crate::link::frames;
 
 impl DroneRun {
     /// Starts `command` in its own task; its result comes back through the loop's
     /// inbox to [`DroneRun::deliver`].
     pub(super) fn send(&self, command: Command) {
-        self.commands
-            .spawn(self.index, command, self.session.clone(), self.flavour);
+        self.commands.spawn(
+            self.index,
+            command,
+            self.session.clone(),
+            self.flavour.modes(),
+        );
     }
 
     /// Hands a finished command's result to whatever waits for it. A result that
@@ -21,10 +25,12 @@ impl DroneRun {
     pub fn deliver(&mut self, command: Command, result: Result<(), CommandError>) {
         let waiting = match (command, &mut self.phase) {
             (Command::ResumeExternalControl, _) => &mut self.resume,
-            (Command::EnterExternalControl, Phase::EnterOffboard { request, .. })
-            | (Command::Takeoff { .. }, Phase::Takeoff { request })
-            | (Command::Land, Phase::Landing { request })
+            (Command::Land, Phase::Landing { request })
             | (Command::Hold, Phase::HandedOver { request }) => request,
+            (command, Phase::TakingOff(takeoff)) => match takeoff.waiting_for(command) {
+                Some(request) => request,
+                None => return,
+            },
             _ => return,
         };
         if matches!(waiting, Request::Sent) {
@@ -35,14 +41,12 @@ impl DroneRun {
     /// Whether this drone gets our setpoint stream this tick.
     fn streaming(&self) -> bool {
         match self.phase {
-            Phase::EnterOffboard { .. }
-            | Phase::Climb { .. }
-            | Phase::AtStart
+            Phase::TakingOff(ref takeoff) => takeoff.streams(self.last_setpoint.is_some()),
+            Phase::AtStart
             | Phase::Flying
             | Phase::AtGoal
             | Phase::AwaitLanding
             | Phase::Lost { .. } => true,
-            Phase::AwaitAltitude => self.last_setpoint.is_some(),
             ref phase => phase.retiring_on_our_setpoints(),
         }
     }

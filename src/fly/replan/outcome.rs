@@ -3,7 +3,6 @@
 
 use super::membership::{flies_on, leaves_plan};
 use super::{Asked, Replanner, Trigger};
-use crate::compiled::CheckFigures;
 use crate::fly::drone::DroneRun;
 use crate::fly::log::{LogEvent, ReplanRecord};
 use crate::fly::splice::{Splice, SpliceError};
@@ -39,8 +38,8 @@ impl Replanner {
                     SpliceError::Unsafe(figures) => Some(figures.as_ref().clone()),
                     _ => None,
                 };
-                self.fall_back(trigger, since_arm_s, &e.to_string(), events);
-                self.note_check(check);
+                self.fall_back(trigger, since_arm_s, &e.to_string(), events)
+                    .check = check;
                 return None;
             }
             Ok(splice) => splice,
@@ -65,18 +64,10 @@ impl Replanner {
                 .map(|&i| format!("{} was heard again while it was replanned", drones[i].id()))
         };
         if let Some(why) = why {
-            self.fall_back(trigger, since_arm_s, &why, events);
-            self.note_check(Some(splice.check));
+            self.fall_back(trigger, since_arm_s, &why, events).check = Some(splice.check);
             return None;
         }
         Some(self.splice(drones, splice, trigger, &left_out, since_arm_s, events))
-    }
-
-    /// Keeps the trajectory checker's figures with the replan just recorded.
-    fn note_check(&mut self, check: Option<CheckFigures>) {
-        if let Some(record) = self.records.last_mut() {
-            record.check = check;
-        }
     }
 
     /// Swaps the new routes in and records the replan.
@@ -135,14 +126,15 @@ impl Replanner {
         }
     }
 
-    /// No new plan: the flight goes on with the old one, and says why.
+    /// No new plan: the flight goes on with the old one, and says why. Returns the
+    /// record kept, for the trajectory checker's figures when it got that far.
     pub(super) fn fall_back(
         &mut self,
         trigger: Trigger,
         since_arm_s: f64,
         why: &str,
         events: &mut Vec<LogEvent>,
-    ) {
+    ) -> &mut ReplanRecord {
         events.push(LogEvent::new(
             since_arm_s,
             None,
@@ -162,6 +154,8 @@ impl Replanner {
             fallback: Some(why.to_string()),
             check: None,
         });
+        let last = self.records.len() - 1;
+        &mut self.records[last]
     }
 }
 

@@ -3,7 +3,7 @@
 
 use super::Session;
 use crate::link::error::LinkError;
-use crate::link::flavour::ModeRequest;
+use crate::link::mode::ModeRequest;
 use mavlink::dialects::common::{MavCmd, MavModeFlag};
 use std::time::Duration;
 

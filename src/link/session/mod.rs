@@ -24,13 +24,12 @@ mod streams;
 pub use command::CommandPolicy;
 
 use super::error::LinkError;
-use super::flavour::Flavour;
 use super::messages::position_target;
 use super::signing::SigningKey;
 use super::telemetry::VehicleState;
 use super::transport::{CarriedLink, Transport};
 use mavlink::AsyncMavConnection;
-use mavlink::dialects::common::{COMMAND_ACK_DATA, MavMessage};
+use mavlink::dialects::common::{COMMAND_ACK_DATA, MavAutopilot, MavMessage};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 use tokio::sync::broadcast;
@@ -155,17 +154,14 @@ impl Session {
         self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Waits for the vehicle's first heartbeat and returns its autopilot family.
-    pub async fn wait_heartbeat(&self, within: Duration) -> Result<Flavour, LinkError> {
+    /// Waits for the vehicle's first heartbeat and returns the autopilot it names.
+    pub async fn wait_heartbeat(&self, within: Duration) -> Result<MavAutopilot, LinkError> {
         let start = Instant::now();
         loop {
             {
                 let s = self.state();
-                if s.last_heartbeat.is_some() {
-                    return s.flavour.ok_or_else(|| LinkError::UnknownAutopilot {
-                        system_id: self.system_id,
-                        autopilot: s.autopilot_name.clone().unwrap_or_default(),
-                    });
+                if let (Some(_), Some(autopilot)) = (s.last_heartbeat, s.autopilot) {
+                    return Ok(autopilot);
                 }
             }
             if start.elapsed() >= within {

@@ -3,7 +3,10 @@
 
 use anyhow::Context;
 use std::path::PathBuf;
-use swarmctl::fly::{self, FaultSpec};
+use swarmctl::fly;
+use swarmctl::mission::Autopilot;
+use swarmctl_sitl::FaultSpec;
+use swarmctl_sitl::faults::FAULT_HELP;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -13,8 +16,8 @@ pub struct Args {
     #[arg(long)]
     pub(super) plan: Option<PathBuf>,
     /// Autopilot the bundled SITL imitates (default: the mission's `link.autopilot`).
-    #[arg(long, value_parser = ["px4", "ardupilot"])]
-    pub(super) autopilot: Option<String>,
+    #[arg(long, value_name = "AUTOPILOT", value_parser = crate::commands::autopilot::parser())]
+    pub(super) autopilot: Option<Autopilot>,
     /// Seconds pre-flight waits for every vehicle to report a position and pass its
     /// pre-arm checks (default 60: real autopilots need about 40 s after boot for
     /// EKF and GPS; 5 on the bundled simulator, whose vehicles are ready at once).
@@ -30,12 +33,8 @@ pub struct Args {
     /// GPS with `world.geo_origin`, or its report in a shared frame) and its pad.
     #[arg(long, value_name = "METRES", default_value_t = 0.3)]
     pub(super) pad_tolerance: f64,
-    /// Bundled SITL fault, repeatable: link-wide loss=10%, latency=50ms, dup=5%,
-    /// reorder=10%; per drone slow=DRONE_ID:0.5, drop=DRONE_ID@5s+3s (link cut
-    /// 5 s after takeoff for 3 s), lose=DRONE_ID@5s (cut for good), crash=DRONE_ID@5s
-    /// (motors stop, it falls, silent), refuse-arm=DRONE_ID,
-    /// low-battery=DRONE_ID@10s, critical-battery=DRONE_ID@10s (after arming).
-    #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault)]
+    // The help text lists every kind; it is the simulator's, which parses them.
+    #[arg(long = "fault", value_name = "FAULT", value_parser = parse_fault, help = FAULT_HELP)]
     pub(super) faults: Vec<FaultSpec>,
     /// Flight log (JSON); default flights/<mission file name>-<unix time>.json.
     // The comment above is `--help` text, shown as written: the placeholders
@@ -88,7 +87,7 @@ pub struct Args {
 }
 
 fn parse_fault(s: &str) -> Result<FaultSpec, String> {
-    fly::parse_fault(s).map_err(|e| e.reason)
+    swarmctl_sitl::parse_fault(s).map_err(|e| e.reason)
 }
 
 /// The flags' durations, read once.

@@ -15,8 +15,9 @@ pub(super) async fn start_bundled_sitl(
     plan: &DiscretePlan,
     signing_key: Option<&SigningKey>,
 ) -> anyhow::Result<(Vec<VehicleLink>, swarmctl_sitl::Swarm)> {
-    let flavour = swarmctl_harness::bundled_sitl::flavour(args.autopilot.as_deref(), mission);
-    let mut configs = swarmctl_harness::bundled_sitl::vehicle_configs_in(
+    let autopilot = crate::commands::autopilot::chosen(args.autopilot, mission);
+    let flavour = swarmctl_bundled::flavour(autopilot);
+    let mut configs = swarmctl_bundled::vehicle_configs_in(
         mission,
         plan,
         flavour,
@@ -26,8 +27,7 @@ pub(super) async fn start_bundled_sitl(
     for c in &mut configs {
         c.signing_key = signing_key.map(SigningKey::bytes);
     }
-    let (swarm, links) =
-        swarmctl_harness::bundled_sitl::start(configs, mission.link.setpoint_rate_hz).await?;
+    let (swarm, links) = swarmctl_bundled::start(configs, mission.link.setpoint_rate_hz).await?;
     eprintln!(
         "started the bundled simulator: {} mock {flavour} {} on 127.0.0.1",
         links.len(),

@@ -116,7 +116,7 @@ async fn fly_async(
         .unwrap_or(std::time::Duration::from_secs(if bundled { 5 } else { 60 }));
     options.frames = frame_source(args);
     options.start_tolerance_m = args.pad_tolerance;
-    options.replan = fly::replan::ReplanOptions {
+    options.replan = fly::ReplanOptions {
         enabled: !args.no_replan,
         deadline: durations.replan_deadline,
         max_replans: args.max_replans,

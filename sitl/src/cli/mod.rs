@@ -1,11 +1,14 @@
 //! Command line shared by the `swarmctl-sitl` binary and `swarmctl sitl`:
 //! how many vehicles, where, which flavour, and which faults.
 
-use crate::config::{Faults, Flavour, LinkDrop, VehicleConfig};
+mod fault_flags;
+
+pub use fault_flags::FaultFlags;
+
+use crate::config::{Flavour, VehicleConfig};
 use crate::geo::GeoPoint;
 use crate::swarm::{Swarm, spawn};
 use anyhow::{Context, bail};
-use std::collections::HashMap;
 use std::net::IpAddr;
 use std::time::Duration;
 
@@ -52,79 +55,13 @@ pub struct Args {
     /// MAVLink 2 signing key for all vehicles, 64 hex digits.
     #[arg(long)]
     pub signing_key: Option<String>,
-    /// Packet loss in percent: `10` for all vehicles or `SYSID:10` for one (repeatable).
-    #[arg(long = "loss", value_name = "[SYSID:]PERCENT")]
-    pub loss: Vec<String>,
-    /// Duplicated datagrams in percent, each direction: `5` for all or `SYSID:5` for one (repeatable).
-    #[arg(long = "duplicate", value_name = "[SYSID:]PERCENT")]
-    pub duplicate: Vec<String>,
-    /// Reordered datagrams in percent, each direction (held back 10–60 ms so
-    /// later ones overtake them): `5` for all or `SYSID:5` for one (repeatable).
-    #[arg(long = "reorder", value_name = "[SYSID:]PERCENT")]
-    pub reorder: Vec<String>,
-    /// Added one-way latency in ms: `50` for all or `SYSID:50` for one (repeatable).
-    #[arg(long = "latency-ms", value_name = "[SYSID:]MS")]
-    pub latency_ms: Vec<String>,
-    /// Slow drone: `SYSID:0.5` flies at half speed (repeatable).
-    #[arg(long = "slow", value_name = "SYSID:FACTOR")]
-    pub slow: Vec<String>,
-    /// Link drop: `SYSID@5s+3s` cuts the link 5 s after takeoff for 3 s;
-    /// `SYSID@5s+inf` cuts it for good (repeatable).
-    #[arg(long = "drop", value_name = "SYSID@AFTERs+FORs")]
-    pub drop: Vec<String>,
-    /// Refuse arming for this system id (repeatable).
-    #[arg(long = "refuse-arm", value_name = "SYSID")]
-    pub refuse_arm: Vec<u8>,
-    /// Low-battery warning: `SYSID@60s` turns the battery LOW (warning
-    /// only, ≤ 25 %) after 60 s armed (repeatable).
-    #[arg(long = "low-battery", value_name = "SYSID@SECONDSs")]
-    pub low_battery: Vec<String>,
-    /// Critical-battery failsafe: `SYSID@90s` turns the battery CRITICAL
-    /// after 90 s armed: PX4 lands, ArduPilot returns and lands (repeatable).
-    #[arg(long = "critical-battery", value_name = "SYSID@SECONDSs")]
-    pub critical_battery: Vec<String>,
-    /// Crash: `SYSID@20s` stops the motors 20 s after takeoff; the vehicle falls
-    /// to the ground below it and its link goes silent for good (repeatable).
-    #[arg(long = "crash", value_name = "SYSID@SECONDSs")]
-    pub crash: Vec<String>,
+    /// The faults to inject (`--fault`, and the older one-kind flags).
+    #[command(flatten)]
+    pub faults: FaultFlags,
     /// Benchmark instead of serving: run this many seconds with an in-process
     /// ground station receiving all telemetry, then report CPU use and missed ticks.
     #[arg(long, value_name = "SECONDS")]
     pub bench: Option<f64>,
-}
-
-/// Parses `10` (all vehicles) or `SYSID:10` (one vehicle).
-fn per_vehicle_number(spec: &str) -> anyhow::Result<(Option<u8>, f64)> {
-    let (id, value) = match spec.split_once(':') {
-        Some((id, value)) => (
-            Some(
-                id.trim()
-                    .parse::<u8>()
-                    .with_context(|| format!("bad system id in {spec:?}"))?,
-            ),
-            value,
-        ),
-        None => (None, spec),
-    };
-    let value = value
-        .trim()
-        .parse::<f64>()
-        .with_context(|| format!("bad number in {spec:?}"))?;
-    Ok((id, value))
-}
-
-/// Parses `5s`, `5` or `2.5s` as a duration; `inf`, `never` or `forever`
-/// is [`Duration::MAX`].
-fn seconds(text: &str) -> anyhow::Result<Duration> {
-    let trimmed = text.trim();
-    if matches!(trimmed, "never" | "forever") {
-        return Ok(Duration::MAX);
-    }
-    let value: f64 = trimmed
-        .trim_end_matches('s')
-        .parse()
-        .with_context(|| format!("bad duration {text:?}"))?;
-    seconds_f64(value).with_context(|| format!("bad duration {text:?}"))
 }
 
 /// Seconds as a duration; +∞ is [`Duration::MAX`], negative or NaN is an error.
@@ -133,39 +70,6 @@ fn seconds_f64(value: f64) -> anyhow::Result<Duration> {
         return Ok(Duration::MAX);
     }
     Ok(Duration::try_from_secs_f64(value)?)
-}
-
-/// Parses `SYSID@5s+3s`.
-fn link_drop(spec: &str) -> anyhow::Result<(u8, LinkDrop)> {
-    let (id, times) = spec
-        .split_once('@')
-        .with_context(|| format!("expected SYSID@AFTERs+FORs, got {spec:?}"))?;
-    let (after, duration) = times
-        .split_once('+')
-        .with_context(|| format!("expected SYSID@AFTERs+FORs, got {spec:?}"))?;
-    let id = id
-        .trim()
-        .parse()
-        .with_context(|| format!("bad system id in {spec:?}"))?;
-    Ok((
-        id,
-        LinkDrop {
-            after_takeoff: seconds(after)?,
-            duration: seconds(duration)?,
-        },
-    ))
-}
-
-/// Parses `SYSID@60s` (the battery faults, a crash).
-fn id_after(spec: &str) -> anyhow::Result<(u8, Duration)> {
-    let (id, after) = spec
-        .split_once('@')
-        .with_context(|| format!("expected SYSID@SECONDSs, got {spec:?}"))?;
-    let id = id
-        .trim()
-        .parse()
-        .with_context(|| format!("bad system id in {spec:?}"))?;
-    Ok((id, seconds(after)?))
 }
 
 /// Parses a 64-hex-digit signing key.
@@ -182,76 +86,11 @@ fn signing_key(hex: &str) -> anyhow::Result<[u8; 32]> {
     Ok(key)
 }
 
-/// The faults of vehicle `id`, or an error naming the flag that asked for a missing vehicle.
-fn fault<'a>(
-    faults: &'a mut HashMap<u8, Faults>,
-    id: u8,
-    spec: &str,
-) -> anyhow::Result<&'a mut Faults> {
-    faults
-        .get_mut(&id)
-        .with_context(|| format!("{spec:?}: no vehicle with system id {id}"))
-}
-
 impl Args {
     /// The vehicle configurations these arguments describe.
     pub fn vehicle_configs(&self) -> anyhow::Result<Vec<VehicleConfig>> {
         let ids: Vec<u8> = (1..=self.vehicles).collect();
-        let mut faults: HashMap<u8, Faults> =
-            ids.iter().map(|id| (*id, Faults::default())).collect();
-        for spec in &self.loss {
-            match per_vehicle_number(spec)? {
-                (Some(id), percent) => fault(&mut faults, id, spec)?.loss_percent = percent,
-                (None, percent) => faults.values_mut().for_each(|f| f.loss_percent = percent),
-            }
-        }
-        for (specs, what) in [(&self.duplicate, "duplicate"), (&self.reorder, "reorder")] {
-            for spec in specs {
-                let (id, percent) = per_vehicle_number(spec)?;
-                let set = |f: &mut Faults| match what {
-                    "duplicate" => f.duplicate_percent = percent,
-                    _ => f.reorder_percent = percent,
-                };
-                match id {
-                    Some(id) => set(fault(&mut faults, id, spec)?),
-                    None => faults.values_mut().for_each(set),
-                }
-            }
-        }
-        for spec in &self.latency_ms {
-            let (id, ms) = per_vehicle_number(spec)?;
-            let latency = Duration::try_from_secs_f64(ms / 1000.0)
-                .with_context(|| format!("bad latency {spec:?}"))?;
-            match id {
-                Some(id) => fault(&mut faults, id, spec)?.latency = latency,
-                None => faults.values_mut().for_each(|f| f.latency = latency),
-            }
-        }
-        for spec in &self.slow {
-            let (Some(id), factor) = per_vehicle_number(spec)? else {
-                bail!("--slow needs SYSID:FACTOR, got {spec:?}")
-            };
-            fault(&mut faults, id, spec)?.speed_factor = factor;
-        }
-        for spec in &self.drop {
-            let (id, drop) = link_drop(spec)?;
-            fault(&mut faults, id, spec)?.link_drop = Some(drop);
-        }
-        for id in &self.refuse_arm {
-            fault(&mut faults, *id, "--refuse-arm")?.refuse_arm = true;
-        }
-        for spec in &self.low_battery {
-            let (id, after) = id_after(spec)?;
-            fault(&mut faults, id, spec)?.low_battery_after = Some(after);
-        }
-        for spec in &self.critical_battery {
-            let (id, after) = id_after(spec)?;
-            fault(&mut faults, id, spec)?.critical_battery_after = Some(after);
-        }
-        for spec in &self.crash {
-            let (id, after) = id_after(spec)?;
-            fault(&mut faults, id, spec)?.crash_after_takeoff = Some(after);
-        }
+        let mut faults = self.faults.per_vehicle(&ids)?.into_iter();
         let key = self.signing_key.as_deref().map(signing_key).transpose()?;
         let land_after = seconds_f64(self.offboard_loss_land_after_s)
             .context("bad --offboard-loss-land-after-s")?;
@@ -269,7 +108,7 @@ impl Args {
                 c.port = port;
                 c.max_speed_mps = self.max_speed_mps;
                 c.max_accel_mps2 = self.max_accel_mps2;
-                c.faults = faults.remove(id).unwrap_or_default();
+                c.faults = faults.next().unwrap_or_default();
                 c.signing_key = key;
                 c.seed = self.seed.wrapping_add(u64::from(*id));
                 c.gcs_stream_port = self.gcs_port;
@@ -325,6 +164,7 @@ async fn serve(args: &Args, configs: Vec<VehicleConfig>) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::LinkDrop;
     use clap::Parser;
 
     #[derive(Parser)]
@@ -427,7 +267,7 @@ mod tests {
 
     #[test]
     fn permanent_drops_parse_as_duration_max() -> anyhow::Result<()> {
-        for spec in ["1@2s+inf", "1@2s+never", "1@2+forever", "1@2s+infs"] {
+        for spec in ["1@2s+inf", "1@2s+never", "1@2s+forever"] {
             let configs = parse(&["--drop", spec])?;
             assert_eq!(
                 configs[0].faults.link_drop,
@@ -436,6 +276,50 @@ mod tests {
             );
         }
         Ok(())
+    }
+
+    #[test]
+    fn fault_flags_name_vehicles_by_system_id() -> anyhow::Result<()> {
+        let configs = parse(&[
+            "--vehicles",
+            "3",
+            "--fault",
+            "loss=2:25%",
+            "--fault",
+            "lose=3@4s",
+            "--fault",
+            "low-battery=1@10s",
+        ])?;
+        assert_eq!(configs[1].faults.loss_percent, 25.0);
+        assert_eq!(configs[0].faults.loss_percent, 0.0);
+        assert_eq!(
+            configs[2].faults.link_drop,
+            Some(LinkDrop::permanent(Duration::from_secs(4)))
+        );
+        assert_eq!(
+            configs[0].faults.critical_battery_after,
+            Some(Duration::from_secs(55))
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn fault_errors_name_the_flag_and_the_problem() {
+        for (line, said) in [
+            (
+                &["--drop", "9@1s+1s"][..],
+                "--drop 9@1s+1s: no vehicle with system id 9",
+            ),
+            (&["--loss", "1:abc"], "--loss 1:abc: loss is not a number"),
+            (&["--fault", "wind=3"], "--fault wind=3: unknown fault kind"),
+            (
+                &["--slow", "1:2"],
+                "--slow 1:2: speed factor must be in (0, 1]",
+            ),
+        ] {
+            let error = parse(line).map(|_| ()).unwrap_err().to_string();
+            assert!(error.starts_with(said), "{line:?}: {error}");
+        }
     }
 
     #[test]
