@@ -1,6 +1,12 @@
-//! ArduPilot Copter specifics: custom-mode numbers.
+//! The ArduPilot Copter imitation: custom-mode numbers, arming only outside
+//! LAND and RTL, takeoff by command in GUIDED, targets taken only in GUIDED while
+//! flying, RTL on a critical battery, and its parameter table.
 
+use crate::config::VehicleConfig;
+use crate::imitation::{Imitation, ModeRequestError};
 use crate::mode::FlightMode;
+use crate::vehicle::Vehicle;
+use mavlink::dialects::common::{MavAutopilot, MavProtocolCapability, MavResult};
 
 /// Copter mode numbers (`ArduCopter/mode.h`).
 pub mod copter_mode {
@@ -22,7 +28,7 @@ pub mod copter_mode {
 pub const VELOCITY_TIMEOUT_S: f64 = 3.0;
 
 /// HEARTBEAT custom_mode for a flight mode.
-pub fn custom_mode(mode: FlightMode) -> u32 {
+fn custom_mode(mode: FlightMode) -> u32 {
     match mode {
         FlightMode::Manual => copter_mode::STABILIZE,
         FlightMode::Hold => copter_mode::LOITER,
@@ -33,7 +39,7 @@ pub fn custom_mode(mode: FlightMode) -> u32 {
 }
 
 /// Flight mode requested by MAV_CMD_DO_SET_MODE param 2; `None` if the mock does not fly it.
-pub fn mode_from_request(custom: f32) -> Option<FlightMode> {
+fn mode_from_request(custom: f32) -> Option<FlightMode> {
     if !(custom.is_finite() && custom >= 0.0 && custom.fract() == 0.0) {
         return None;
     }
@@ -48,8 +54,114 @@ pub fn mode_from_request(custom: f32) -> Option<FlightMode> {
 }
 
 /// Whether Copter allows arming in this mode (it refuses in LAND and RTL).
-pub fn armable(mode: FlightMode) -> bool {
+fn armable(mode: FlightMode) -> bool {
     !matches!(mode, FlightMode::Land | FlightMode::ReturnToLaunch)
+}
+
+/// The ArduPilot Copter firmware.
+pub(crate) struct ArduPilot;
+
+impl Imitation for ArduPilot {
+    fn name(&self) -> &'static str {
+        "ArduPilot"
+    }
+
+    fn aliases(&self) -> &'static [&'static str] {
+        &["ardupilot", "apm", "arducopter"]
+    }
+
+    fn heartbeat_autopilot(&self) -> MavAutopilot {
+        MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA
+    }
+
+    /// Version words are major << 24 | minor << 16 | patch << 8 | 255 (release).
+    fn version(&self) -> (MavProtocolCapability, u32) {
+        (
+            MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST,
+            0x0405_00FF,
+        )
+    }
+
+    fn boot_mode(&self) -> FlightMode {
+        FlightMode::Manual
+    }
+
+    fn custom_mode(&self, mode: FlightMode) -> u32 {
+        custom_mode(mode)
+    }
+
+    fn mode_request_of(&self, custom_mode: u32) -> (f32, f32) {
+        (custom_mode as f32, 0.0)
+    }
+
+    fn mode_from_request(&self, param2: f32, _param3: f32) -> Result<FlightMode, ModeRequestError> {
+        mode_from_request(param2).ok_or(ModeRequestError::Unknown)
+    }
+
+    fn armable(&self, mode: FlightMode) -> bool {
+        armable(mode)
+    }
+
+    fn prearm_failure_text(&self) -> &'static str {
+        "PreArm: simulated check failure (refuse-arm fault)"
+    }
+
+    fn low_battery_text(&self) -> &'static str {
+        "Low battery: Battery 1 is low"
+    }
+
+    fn critical_battery_failsafe(&self) -> (&'static str, FlightMode) {
+        (
+            "Battery 1 is critical! Failsafe: RTL",
+            FlightMode::ReturnToLaunch,
+        )
+    }
+
+    fn takes_setpoint(&self, v: &Vehicle) -> bool {
+        v.mode == FlightMode::Guided && v.armed && v.airborne()
+    }
+
+    fn takeoff(&self, v: &mut Vehicle, p7: f32) -> MavResult {
+        if v.mode != FlightMode::Guided {
+            return v.refuse(MavResult::MAV_RESULT_FAILED, "Takeoff: not in GUIDED");
+        }
+        if !v.armed {
+            return v.refuse(MavResult::MAV_RESULT_FAILED, "Takeoff: disarmed");
+        }
+        if !v.landed() {
+            return v.refuse(MavResult::MAV_RESULT_FAILED, "Takeoff: already flying");
+        }
+        if !(p7.is_finite() && p7 > 0.0) {
+            return v.refuse(
+                MavResult::MAV_RESULT_FAILED,
+                "Takeoff: altitude must be > 0",
+            );
+        }
+        v.external = None;
+        v.takeoff_height_m = Some(p7);
+        MavResult::MAV_RESULT_ACCEPTED
+    }
+
+    fn params(&self, config: &VehicleConfig) -> Vec<(&'static str, f32)> {
+        vec![
+            ("PILOT_TKOFF_ALT", 250.0),
+            ("WPNAV_SPEED", config.max_speed_mps * 100.0),
+            ("WPNAV_ACCEL", config.max_accel_mps2 * 100.0),
+            // The position controller's jerk limits, m/s³ (ArduCopter's defaults;
+            // flight code sets them, the mock's dynamics do not read them).
+            ("PSC_JERK_XY", 5.0),
+            ("PSC_JERK_Z", 5.0),
+            // The mock has no attitude to tilt: acceleration feed-forward acts at
+            // once, so its attitude input time constant is zero.
+            ("ATC_INPUT_TC", 0.0),
+            ("WPNAV_ACCEL_Z", 100.0),
+            ("WPNAV_SPEED_UP", 250.0),
+            ("WPNAV_SPEED_DN", 150.0),
+            ("LAND_SPEED", 70.0),
+            ("FS_GCS_ENABLE", 0.0),
+            ("SYSID_THISMAV", f32::from(config.system_id)),
+        ]
+    }
 }
 
 #[cfg(test)]

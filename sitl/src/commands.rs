@@ -2,10 +2,9 @@
 //! TIMESYNC. Commands that cannot be carried out are refused with a result
 //! code and, like the real autopilots do, a STATUSTEXT saying why.
 
-use crate::config::Flavour;
+use crate::imitation::ModeRequestError;
 use crate::mode::FlightMode;
 use crate::vehicle::Vehicle;
-use crate::{ardupilot, px4};
 use mavlink::MavHeader;
 use mavlink::dialects::common::{
     COMMAND_ACK_DATA, MavCmd, MavMessage, MavModeFlag, MavResult, MavSeverity, TIMESYNC_DATA,
@@ -53,13 +52,7 @@ impl Vehicle {
             MavMessage::SET_MODE(m) if m.target_system == self.system_id => {
                 // The (deprecated) message form of MAV_CMD_DO_SET_MODE: same
                 // rules, no COMMAND_ACK — the heartbeat shows the outcome.
-                let (custom, sub) = match self.flavour {
-                    Flavour::Px4 => (
-                        ((m.custom_mode >> 16) & 0xff) as f32,
-                        (m.custom_mode >> 24) as f32,
-                    ),
-                    Flavour::ArduPilot => (m.custom_mode as f32, 0.0),
-                };
+                let (custom, sub) = self.flavour.imitation().mode_request_of(m.custom_mode);
                 let _ = self.set_mode_command(f32::from(m.base_mode.bits()), custom, sub);
             }
             MavMessage::PARAM_SET(p) if self.addressed(p.target_system, p.target_component) => {
@@ -136,10 +129,7 @@ impl Vehicle {
     /// the words of the autopilot imitated.
     fn run_prearm_checks(&mut self) -> MavResult {
         if self.config.faults.refuse_arm {
-            let text = match self.config.flavour {
-                Flavour::ArduPilot => "PreArm: simulated check failure (refuse-arm fault)",
-                Flavour::Px4 => "Preflight Fail: simulated check failure (refuse-arm fault)",
-            };
+            let text = self.config.flavour.imitation().prearm_failure_text();
             self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, text);
         }
         MavResult::MAV_RESULT_ACCEPTED
@@ -184,7 +174,8 @@ impl Vehicle {
         }
     }
 
-    fn refuse(&mut self, result: MavResult, reason: &str) -> MavResult {
+    /// Refuses a command, saying why (STATUSTEXT) as the autopilot would.
+    pub(crate) fn refuse(&mut self, result: MavResult, reason: &str) -> MavResult {
         self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, reason);
         result
     }
@@ -219,7 +210,7 @@ impl Vehicle {
         if !self.landed() && !force {
             return self.refuse(MavResult::MAV_RESULT_DENIED, "Arming denied: not landed");
         }
-        if self.flavour == Flavour::ArduPilot && !ardupilot::armable(self.mode) {
+        if !self.flavour.imitation().armable(self.mode) {
             return self.refuse(MavResult::MAV_RESULT_DENIED, "Arm: Mode not armable");
         }
         self.set_armed(true);
@@ -237,21 +228,15 @@ impl Vehicle {
         {
             return MavResult::MAV_RESULT_UNSUPPORTED;
         }
-        let mode = match self.flavour {
-            Flavour::Px4 => match px4::mode_from_request(custom, sub) {
-                Ok(mode) => mode,
-                Err(px4::ModeRequestError::Unsupported) => {
-                    return self.refuse(
-                        MavResult::MAV_RESULT_DENIED,
-                        "Mode not available in SITL (no RC, no mission)",
-                    );
-                }
-                Err(px4::ModeRequestError::Unknown) => return MavResult::MAV_RESULT_UNSUPPORTED,
-            },
-            Flavour::ArduPilot => match ardupilot::mode_from_request(custom) {
-                Some(mode) => mode,
-                None => return MavResult::MAV_RESULT_UNSUPPORTED,
-            },
+        let mode = match self.flavour.imitation().mode_from_request(custom, sub) {
+            Ok(mode) => mode,
+            Err(ModeRequestError::Unsupported) => {
+                return self.refuse(
+                    MavResult::MAV_RESULT_DENIED,
+                    "Mode not available in SITL (no RC, no mission)",
+                );
+            }
+            Err(ModeRequestError::Unknown) => return MavResult::MAV_RESULT_UNSUPPORTED,
         };
         if mode == FlightMode::Offboard && !self.setpoint_stream_ok() {
             return self.refuse(
@@ -265,48 +250,8 @@ impl Vehicle {
         MavResult::MAV_RESULT_ACCEPTED
     }
 
+    /// MAV_CMD_NAV_TAKEOFF, as the imitated firmware answers it.
     fn takeoff(&mut self, p7: f32) -> MavResult {
-        match self.flavour {
-            Flavour::Px4 => {
-                if !self.armed {
-                    return self.refuse(MavResult::MAV_RESULT_DENIED, "Takeoff denied: disarmed");
-                }
-                // PX4's param7 is an AMSL altitude; NaN means MIS_TAKEOFF_ALT.
-                let height_m = if p7.is_finite() {
-                    (f64::from(p7) - self.home.alt_amsl_m) as f32
-                } else {
-                    self.params.takeoff_alt_m()
-                };
-                if height_m < 0.5 {
-                    return self.refuse(
-                        MavResult::MAV_RESULT_DENIED,
-                        "Takeoff denied: altitude below home (PX4 param7 is AMSL)",
-                    );
-                }
-                self.takeoff_height_m = Some(height_m);
-                self.set_mode(FlightMode::Takeoff);
-                MavResult::MAV_RESULT_ACCEPTED
-            }
-            Flavour::ArduPilot => {
-                if self.mode != FlightMode::Guided {
-                    return self.refuse(MavResult::MAV_RESULT_FAILED, "Takeoff: not in GUIDED");
-                }
-                if !self.armed {
-                    return self.refuse(MavResult::MAV_RESULT_FAILED, "Takeoff: disarmed");
-                }
-                if !self.landed() {
-                    return self.refuse(MavResult::MAV_RESULT_FAILED, "Takeoff: already flying");
-                }
-                if !(p7.is_finite() && p7 > 0.0) {
-                    return self.refuse(
-                        MavResult::MAV_RESULT_FAILED,
-                        "Takeoff: altitude must be > 0",
-                    );
-                }
-                self.external = None;
-                self.takeoff_height_m = Some(p7);
-                MavResult::MAV_RESULT_ACCEPTED
-            }
-        }
+        self.flavour.imitation().takeoff(self, p7)
     }
 }

@@ -16,10 +16,7 @@ pub enum Flavour {
 impl std::fmt::Display for Flavour {
     /// The firmware's own name: `PX4`, `ArduPilot`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Flavour::Px4 => "PX4",
-            Flavour::ArduPilot => "ArduPilot",
-        })
+        f.write_str(self.imitation().name())
     }
 }
 
@@ -27,11 +24,17 @@ impl std::str::FromStr for Flavour {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.to_ascii_lowercase().as_str() {
-            "px4" => Ok(Flavour::Px4),
-            "ardupilot" | "apm" | "arducopter" => Ok(Flavour::ArduPilot),
-            other => Err(format!("unknown flavour {other:?} (px4 or ardupilot)")),
-        }
+        let name = s.to_ascii_lowercase();
+        Flavour::ALL
+            .into_iter()
+            .find(|f| f.imitation().aliases().contains(&name.as_str()))
+            .ok_or_else(|| {
+                let known: Vec<&str> = Flavour::ALL
+                    .iter()
+                    .map(|f| f.imitation().aliases()[0])
+                    .collect();
+                format!("unknown flavour {name:?} ({})", known.join(" or "))
+            })
     }
 }
 

@@ -34,6 +34,7 @@ pub mod error;
 pub mod faults;
 pub mod forge;
 pub mod geo;
+mod imitation;
 mod link;
 pub mod mode;
 mod params;

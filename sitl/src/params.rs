@@ -1,7 +1,7 @@
 //! A minimal parameter table: enough for ground stations to read and set the
 //! parameters flight code touches (PX4's MIS_TAKEOFF_ALT above all).
 
-use crate::config::{Flavour, VehicleConfig};
+use crate::config::VehicleConfig;
 use crate::px4;
 use mavlink::dialects::common::{MavMessage, MavParamType, PARAM_VALUE_DATA};
 
@@ -22,43 +22,7 @@ pub struct Params {
 impl Params {
     /// Defaults for the vehicle's flavour and limits.
     pub fn for_vehicle(config: &VehicleConfig) -> Self {
-        let table: Vec<(&'static str, f32)> = match config.flavour {
-            Flavour::Px4 => vec![
-                ("MIS_TAKEOFF_ALT", px4::DEFAULT_TAKEOFF_ALT_M),
-                ("COM_OF_LOSS_T", 1.0),
-                ("COM_DISARM_LAND", 2.0),
-                ("MPC_XY_VEL_MAX", config.max_speed_mps),
-                ("MPC_ACC_HOR_MAX", config.max_accel_mps2),
-                // PX4's defaults. The mock descends at MPC_LAND_SPEED from any
-                // height (PX4 descends at MPC_Z_V_AUTO_DN above MPC_LAND_ALT2, which
-                // mock missions never reach).
-                ("MPC_LAND_SPEED", px4::DEFAULT_LAND_SPEED_MPS),
-                ("MPC_LAND_CRWL", 0.3),
-                ("MPC_Z_V_AUTO_DN", 1.5),
-                ("MPC_Z_V_AUTO_UP", 3.0),
-                ("MPC_Z_VEL_MAX_DN", 1.5),
-                ("MPC_Z_VEL_MAX_UP", 3.0),
-                ("MAV_SYS_ID", f32::from(config.system_id)),
-            ],
-            Flavour::ArduPilot => vec![
-                ("PILOT_TKOFF_ALT", 250.0),
-                ("WPNAV_SPEED", config.max_speed_mps * 100.0),
-                ("WPNAV_ACCEL", config.max_accel_mps2 * 100.0),
-                // The position controller's jerk limits, m/s³ (ArduCopter's defaults;
-                // flight code sets them, the mock's dynamics do not read them).
-                ("PSC_JERK_XY", 5.0),
-                ("PSC_JERK_Z", 5.0),
-                // The mock has no attitude to tilt: acceleration feed-forward acts at
-                // once, so its attitude input time constant is zero.
-                ("ATC_INPUT_TC", 0.0),
-                ("WPNAV_ACCEL_Z", 100.0),
-                ("WPNAV_SPEED_UP", 250.0),
-                ("WPNAV_SPEED_DN", 150.0),
-                ("LAND_SPEED", 70.0),
-                ("FS_GCS_ENABLE", 0.0),
-                ("SYSID_THISMAV", f32::from(config.system_id)),
-            ],
-        };
+        let table = config.flavour.imitation().params(config);
         let entries = table
             .into_iter()
             .map(|(name, value)| Param { name, value })
@@ -137,6 +101,7 @@ impl Params {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::Flavour;
 
     #[test]
     fn set_echoes_and_changes_takeoff_altitude() {

@@ -1,7 +1,12 @@
-//! PX4 specifics: custom-mode encoding (`main << 16 | sub << 24`) and the
-//! takeoff-altitude rule.
+//! The PX4 imitation: custom-mode encoding (`main << 16 | sub << 24`), OFFBOARD
+//! on a setpoint stream, the takeoff-altitude rule (param7 AMSL, else
+//! MIS_TAKEOFF_ALT), LAND on a critical battery, and its parameter table.
 
+use crate::config::VehicleConfig;
+use crate::imitation::{Imitation, ModeRequestError};
 use crate::mode::FlightMode;
+use crate::vehicle::Vehicle;
+use mavlink::dialects::common::{MavAutopilot, MavProtocolCapability, MavResult};
 
 /// PX4 main mode numbers (`px4_custom_mode.h`).
 pub mod main_mode {
@@ -44,7 +49,7 @@ pub const DEFAULT_TAKEOFF_ALT_M: f32 = 2.5;
 pub const DEFAULT_LAND_SPEED_MPS: f32 = 0.7;
 
 /// HEARTBEAT custom_mode for a flight mode.
-pub fn custom_mode(mode: FlightMode) -> u32 {
+fn custom_mode(mode: FlightMode) -> u32 {
     let (main, sub) = match mode {
         FlightMode::Manual => (main_mode::POSCTL, 0),
         FlightMode::Hold => (main_mode::AUTO, auto_sub_mode::LOITER),
@@ -56,17 +61,8 @@ pub fn custom_mode(mode: FlightMode) -> u32 {
     (u32::from(main) << 16) | (u32::from(sub) << 24)
 }
 
-/// Why a PX4 mode request cannot be mapped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ModeRequestError {
-    /// A real PX4 mode the mock does not fly (manual modes need RC, missions are absent).
-    Unsupported,
-    /// Not a PX4 mode at all.
-    Unknown,
-}
-
 /// Flight mode requested by MAV_CMD_DO_SET_MODE params 2 (main) and 3 (sub).
-pub fn mode_from_request(main: f32, sub: f32) -> Result<FlightMode, ModeRequestError> {
+fn mode_from_request(main: f32, sub: f32) -> Result<FlightMode, ModeRequestError> {
     let main = to_u8(main).ok_or(ModeRequestError::Unknown)?;
     let sub = to_u8(sub).unwrap_or(0);
     match (main, sub) {
@@ -81,6 +77,111 @@ pub fn mode_from_request(main: f32, sub: f32) -> Result<FlightMode, ModeRequestE
             Err(ModeRequestError::Unsupported)
         }
         _ => Err(ModeRequestError::Unknown),
+    }
+}
+
+/// The PX4 firmware.
+pub(crate) struct Px4;
+
+impl Imitation for Px4 {
+    fn name(&self) -> &'static str {
+        "PX4"
+    }
+
+    fn aliases(&self) -> &'static [&'static str] {
+        &["px4"]
+    }
+
+    fn heartbeat_autopilot(&self) -> MavAutopilot {
+        MavAutopilot::MAV_AUTOPILOT_PX4
+    }
+
+    /// Version words are major << 24 | minor << 16 | patch << 8 | 255 (release).
+    fn version(&self) -> (MavProtocolCapability, u32) {
+        (
+            MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE,
+            0x010F_00FF,
+        )
+    }
+
+    fn boot_mode(&self) -> FlightMode {
+        FlightMode::Hold
+    }
+
+    fn custom_mode(&self, mode: FlightMode) -> u32 {
+        custom_mode(mode)
+    }
+
+    fn mode_request_of(&self, custom_mode: u32) -> (f32, f32) {
+        (
+            ((custom_mode >> 16) & 0xff) as f32,
+            (custom_mode >> 24) as f32,
+        )
+    }
+
+    fn mode_from_request(&self, param2: f32, param3: f32) -> Result<FlightMode, ModeRequestError> {
+        mode_from_request(param2, param3)
+    }
+
+    fn armable(&self, _mode: FlightMode) -> bool {
+        true
+    }
+
+    fn prearm_failure_text(&self) -> &'static str {
+        "Preflight Fail: simulated check failure (refuse-arm fault)"
+    }
+
+    fn low_battery_text(&self) -> &'static str {
+        "Low battery level! Return advised"
+    }
+
+    fn critical_battery_failsafe(&self) -> (&'static str, FlightMode) {
+        ("Critical battery level! Landing", FlightMode::Land)
+    }
+
+    fn takes_setpoint(&self, _vehicle: &Vehicle) -> bool {
+        true
+    }
+
+    fn takeoff(&self, v: &mut Vehicle, p7: f32) -> MavResult {
+        if !v.armed {
+            return v.refuse(MavResult::MAV_RESULT_DENIED, "Takeoff denied: disarmed");
+        }
+        // PX4's param7 is an AMSL altitude; NaN means MIS_TAKEOFF_ALT.
+        let height_m = if p7.is_finite() {
+            (f64::from(p7) - v.home.alt_amsl_m) as f32
+        } else {
+            v.params.takeoff_alt_m()
+        };
+        if height_m < 0.5 {
+            return v.refuse(
+                MavResult::MAV_RESULT_DENIED,
+                "Takeoff denied: altitude below home (PX4 param7 is AMSL)",
+            );
+        }
+        v.takeoff_height_m = Some(height_m);
+        v.set_mode(FlightMode::Takeoff);
+        MavResult::MAV_RESULT_ACCEPTED
+    }
+
+    fn params(&self, config: &VehicleConfig) -> Vec<(&'static str, f32)> {
+        vec![
+            ("MIS_TAKEOFF_ALT", DEFAULT_TAKEOFF_ALT_M),
+            ("COM_OF_LOSS_T", 1.0),
+            ("COM_DISARM_LAND", 2.0),
+            ("MPC_XY_VEL_MAX", config.max_speed_mps),
+            ("MPC_ACC_HOR_MAX", config.max_accel_mps2),
+            // PX4's defaults. The mock descends at MPC_LAND_SPEED from any
+            // height (PX4 descends at MPC_Z_V_AUTO_DN above MPC_LAND_ALT2, which
+            // mock missions never reach).
+            ("MPC_LAND_SPEED", DEFAULT_LAND_SPEED_MPS),
+            ("MPC_LAND_CRWL", 0.3),
+            ("MPC_Z_V_AUTO_DN", 1.5),
+            ("MPC_Z_V_AUTO_UP", 3.0),
+            ("MPC_Z_VEL_MAX_DN", 1.5),
+            ("MPC_Z_VEL_MAX_UP", 3.0),
+            ("MAV_SYS_ID", f32::from(config.system_id)),
+        ]
     }
 }
 

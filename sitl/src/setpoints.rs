@@ -2,10 +2,8 @@
 //! frame into a [`Setpoint`] in the swarm's shared NED frame (LOCAL_NED targets
 //! are relative to the vehicle's own local origin).
 
-use crate::config::Flavour;
 use crate::dynamics::Setpoint;
 use crate::geo::GeoPoint;
-use crate::mode::FlightMode;
 use crate::vehicle::Vehicle;
 use mavlink::dialects::common::{
     MavFrame, PositionTargetTypemask as Mask, SET_POSITION_TARGET_GLOBAL_INT_DATA,
@@ -93,13 +91,8 @@ impl Vehicle {
     /// PX4 records every setpoint (the stream gates OFFBOARD); ArduPilot only
     /// takes targets in GUIDED while flying, ignoring them otherwise.
     fn accept_setpoint(&mut self, setpoint: Setpoint) {
-        match self.flavour {
-            Flavour::Px4 => self.record_setpoint(setpoint),
-            Flavour::ArduPilot => {
-                if self.mode == FlightMode::Guided && self.armed && self.airborne() {
-                    self.record_setpoint(setpoint);
-                }
-            }
+        if self.flavour.imitation().takes_setpoint(self) {
+            self.record_setpoint(setpoint);
         }
     }
 }

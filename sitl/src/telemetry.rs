@@ -1,7 +1,6 @@
 //! Telemetry: how each message is built from the vehicle's state. Which
 //! messages are due when is the schedule in [`crate::streams`].
 
-use crate::config::Flavour;
 use crate::dynamics::GRAVITY_MPS2;
 use crate::mode::FlightMode;
 use crate::streams::id;
@@ -114,10 +113,7 @@ impl Vehicle {
         MavMessage::HEARTBEAT(HEARTBEAT_DATA {
             custom_mode: self.custom_mode(),
             mavtype: MavType::MAV_TYPE_QUADROTOR,
-            autopilot: match self.flavour {
-                Flavour::Px4 => MavAutopilot::MAV_AUTOPILOT_PX4,
-                Flavour::ArduPilot => MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
-            },
+            autopilot: self.flavour.imitation().heartbeat_autopilot(),
             base_mode,
             system_status,
             mavlink_version: 3,
@@ -276,17 +272,8 @@ impl Vehicle {
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_COMMAND_INT
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_LOCAL_NED
             | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT;
-        let (capabilities, flight_sw_version) = match self.flavour {
-            // Version words are major << 24 | minor << 16 | patch << 8 | 255 (release).
-            Flavour::Px4 => (
-                common | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_BYTEWISE,
-                0x010F_00FF,
-            ),
-            Flavour::ArduPilot => (
-                common | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST,
-                0x0405_00FF,
-            ),
-        };
+        let (own, flight_sw_version) = self.flavour.imitation().version();
+        let capabilities = common | own;
         MavMessage::AUTOPILOT_VERSION(AUTOPILOT_VERSION_DATA {
             capabilities,
             uid: u64::from(self.system_id),

@@ -7,6 +7,7 @@
 
 use crate::error::{log_err, ser_err};
 use crate::style::{self, f32x3};
+use crate::swarm::Column;
 use crate::{PlanEvent, Scene, TimeAxis, VizError, metrics, paths, swarm};
 use rerun::{RecordingStream, TimeColumn};
 
@@ -165,9 +166,12 @@ pub(crate) fn log_plan_axis(
     axis: &TimeAxis,
 ) -> Result<(), VizError> {
     let n = rows.drones;
-    swarm::send_points(rec, "plan", axis, &rows.times_s, n, &rows.positions)?;
-    swarm::send_spheres(rec, "plan", axis, &rows.times_s, n, &rows.positions)?;
-    swarm::send_speeds(rec, "plan", axis, &rows.times_s, n, rows.speeds_mps.clone())?;
+    let times_s = &rows.times_s;
+    let positions = &rows.positions;
+    swarm::send_column(rec, "plan", axis, times_s, n, Column::Points(positions))?;
+    swarm::send_column(rec, "plan", axis, times_s, n, Column::Spheres(positions))?;
+    let speeds = Column::Speeds(rows.speeds_mps.clone());
+    swarm::send_column(rec, "plan", axis, times_s, n, speeds)?;
     swarm::send_series(rec, &paths::min_separation("plan"), axis, &rows.separation)?;
     let (separation, distance_m) = (&rows.separation, rows.safety_distance_m);
     swarm::send_limit_line(

@@ -15,69 +15,59 @@ fn times(axis: &TimeAxis, times_s: &[f64]) -> TimeColumn {
     TimeColumn::new_duration_secs(axis.timeline, times_s.iter().map(|t| t + axis.offset_s))
 }
 
-/// Sends rows of positions as points: `positions` holds `times_s.len()` rows of
-/// `drones` entries each, row after row.
-pub(crate) fn send_points(
-    rec: &RecordingStream,
-    kind: &str,
-    axis: &TimeAxis,
-    times_s: &[f64],
-    drones: usize,
-    positions: &[[f32; 3]],
-) -> Result<(), VizError> {
-    if times_s.is_empty() || drones == 0 {
-        return Ok(());
-    }
-    debug_assert_eq!(positions.len(), times_s.len() * drones);
-    let entity = paths::drones(kind);
-    let columns = rerun::Points3D::update_fields()
-        .with_positions(positions.iter().copied())
-        .columns(std::iter::repeat_n(drones, times_s.len()))
-        .map_err(ser_err(&entity))?;
-    rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
-        .map_err(log_err(&entity))
+/// One entity's values over time: `times_s.len()` rows of `drones` entries
+/// each, row after row. What differs between the entities is only their path and
+/// the archetype the values fill; the chunk is sent the same way for all.
+pub(crate) enum Column<'a> {
+    /// Positions, drawn as points.
+    Points(&'a [[f32; 3]]),
+    /// Positions as the centres of the separation spheres or ellipsoids, which
+    /// thus move with the drones.
+    Spheres(&'a [[f32; 3]]),
+    /// Speeds: one series per drone.
+    Speeds(Vec<f64>),
 }
 
-/// Sends rows of positions (same layout as [`send_points`]) as the centres of
-/// the separation spheres or ellipsoids, which thus move with the drones.
-pub(crate) fn send_spheres(
+/// Sends `column` at `times_s` as one chunk on its entity for `kind`.
+pub(crate) fn send_column(
     rec: &RecordingStream,
     kind: &str,
     axis: &TimeAxis,
     times_s: &[f64],
     drones: usize,
-    positions: &[[f32; 3]],
+    column: Column<'_>,
 ) -> Result<(), VizError> {
     if times_s.is_empty() || drones == 0 {
         return Ok(());
     }
-    debug_assert_eq!(positions.len(), times_s.len() * drones);
-    let entity = paths::safety(kind);
-    let columns = rerun::Ellipsoids3D::update_fields()
-        .with_centers(positions.iter().copied())
-        .columns(std::iter::repeat_n(drones, times_s.len()))
-        .map_err(ser_err(&entity))?;
-    rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
-        .map_err(log_err(&entity))
-}
-
-/// Sends rows of speeds (same layout as [`send_points`]): one series per drone.
-pub(crate) fn send_speeds(
-    rec: &RecordingStream,
-    kind: &str,
-    axis: &TimeAxis,
-    times_s: &[f64],
-    drones: usize,
-    speeds_mps: Vec<f64>,
-) -> Result<(), VizError> {
-    if times_s.is_empty() || drones == 0 {
-        return Ok(());
-    }
-    debug_assert_eq!(speeds_mps.len(), times_s.len() * drones);
-    let entity = paths::speeds(kind);
-    let columns = rerun::Scalars::new(speeds_mps)
-        .columns(std::iter::repeat_n(drones, times_s.len()))
-        .map_err(ser_err(&entity))?;
+    let lengths = std::iter::repeat_n(drones, times_s.len());
+    let (entity, values, columns) = match column {
+        Column::Points(positions) => (
+            paths::drones(kind),
+            positions.len(),
+            rerun::Points3D::update_fields()
+                .with_positions(positions.iter().copied())
+                .columns(lengths)
+                .map(Vec::from_iter),
+        ),
+        Column::Spheres(positions) => (
+            paths::safety(kind),
+            positions.len(),
+            rerun::Ellipsoids3D::update_fields()
+                .with_centers(positions.iter().copied())
+                .columns(lengths)
+                .map(Vec::from_iter),
+        ),
+        Column::Speeds(speeds_mps) => (
+            paths::speeds(kind),
+            speeds_mps.len(),
+            rerun::Scalars::new(speeds_mps)
+                .columns(lengths)
+                .map(Vec::from_iter),
+        ),
+    };
+    debug_assert_eq!(values, times_s.len() * drones);
+    let columns = columns.map_err(ser_err(&entity))?;
     rec.send_columns(entity.clone(), [times(axis, times_s)], columns)
         .map_err(log_err(&entity))
 }

@@ -17,7 +17,6 @@ use crate::geo::GeoPoint;
 use crate::mode::FlightMode;
 use crate::params::Params;
 use crate::streams::Streams;
-use crate::{ardupilot, px4};
 use mavlink::dialects::common::{MavMessage, MavSeverity, STATUSTEXT_DATA};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -129,10 +128,7 @@ impl Vehicle {
     /// A disarmed vehicle resting at its start position.
     pub fn new(config: VehicleConfig, telemetry_rate_hz: f64) -> Self {
         let speed_factor = config.faults.speed_factor as f32;
-        let mode = match config.flavour {
-            Flavour::Px4 => FlightMode::Hold,
-            Flavour::ArduPilot => FlightMode::Manual,
-        };
+        let mode = config.flavour.imitation().boot_mode();
         let body = Body::on_ground(config.initial_position_ned_m);
         Self {
             system_id: config.system_id,
@@ -260,10 +256,7 @@ impl Vehicle {
 
     /// HEARTBEAT custom_mode of the current mode.
     pub fn custom_mode(&self) -> u32 {
-        match self.flavour {
-            Flavour::Px4 => px4::custom_mode(self.mode),
-            Flavour::ArduPilot => ardupilot::custom_mode(self.mode),
-        }
+        self.flavour.imitation().custom_mode(self.mode)
     }
 
     /// Advances simulation time by one fixed step.

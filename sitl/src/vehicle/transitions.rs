@@ -6,7 +6,6 @@ use super::{
     CRITICAL_BATTERY_PCT, LOW_BATTERY_PCT, OFFBOARD_LOSS_TIMEOUT_S, Vehicle, seconds_or_never,
 };
 use crate::ardupilot;
-use crate::config::Flavour;
 use crate::dynamics::{Setpoint, norm};
 use crate::mode::FlightMode;
 use mavlink::dialects::common::MavSeverity;
@@ -34,10 +33,7 @@ impl Vehicle {
         } else if !self.battery_low && reached(faults.low_battery_after) {
             self.battery_low = true;
             self.battery_pct = self.battery_pct.min(LOW_BATTERY_PCT);
-            let text = match self.flavour {
-                Flavour::Px4 => "Low battery level! Return advised",
-                Flavour::ArduPilot => "Low battery: Battery 1 is low",
-            };
+            let text = self.flavour.imitation().low_battery_text();
             self.status_text(MavSeverity::MAV_SEVERITY_WARNING, text);
         }
     }
@@ -51,22 +47,9 @@ impl Vehicle {
             self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, "Battery critical");
             return;
         }
-        match self.flavour {
-            Flavour::Px4 => {
-                self.status_text(
-                    MavSeverity::MAV_SEVERITY_CRITICAL,
-                    "Critical battery level! Landing",
-                );
-                self.set_mode(FlightMode::Land);
-            }
-            Flavour::ArduPilot => {
-                self.status_text(
-                    MavSeverity::MAV_SEVERITY_CRITICAL,
-                    "Battery 1 is critical! Failsafe: RTL",
-                );
-                self.set_mode(FlightMode::ReturnToLaunch);
-            }
-        }
+        let (text, failsafe) = self.flavour.imitation().critical_battery_failsafe();
+        self.status_text(MavSeverity::MAV_SEVERITY_CRITICAL, text);
+        self.set_mode(failsafe);
     }
 
     /// Mode transitions driven by time: takeoff completion, offboard loss,

@@ -13,6 +13,7 @@ use super::samples::{CloseOnDrop, Compact};
 use super::stats::RecorderStats;
 use crate::error::log_err;
 use crate::plan::PlanRows;
+use crate::swarm::Column;
 use crate::{Scene, TimeAxis, VizError, paths, swarm};
 use rerun::RecordingStream;
 use std::sync::Arc;
@@ -155,20 +156,15 @@ impl Worker {
         let rows = &mut self.rows;
         let n = rows.tracks.len();
         let (rec, axis) = (&self.rec, &self.axis);
-        swarm::send_points(
-            rec,
-            "flight",
-            axis,
-            &rows.row_times_s,
-            n,
-            &rows.row_positions,
-        )?;
+        let points = Column::Points(&rows.row_positions);
+        swarm::send_column(rec, "flight", axis, &rows.row_times_s, n, points)?;
         rows.row_times_s.clear();
         rows.row_positions.clear();
         let times = &rows.series_times_s;
-        swarm::send_spheres(rec, "flight", axis, times, n, &rows.series_positions)?;
-        let speeds = std::mem::take(&mut rows.series_speeds);
-        swarm::send_speeds(rec, "flight", axis, times, n, speeds)?;
+        let spheres = Column::Spheres(&rows.series_positions);
+        swarm::send_column(rec, "flight", axis, times, n, spheres)?;
+        let speeds = Column::Speeds(std::mem::take(&mut rows.series_speeds));
+        swarm::send_column(rec, "flight", axis, times, n, speeds)?;
         rows.series_times_s.clear();
         rows.series_positions.clear();
         let separation = std::mem::take(&mut rows.separation);
