@@ -5,8 +5,10 @@ use swarmctl::generate::{GenerateOptions, generate};
 use swarmctl::mission::validate;
 use swarmctl::plan::{PlanOptions, solve, validate_plan};
 
-/// A family of random instances.
+/// A family of random instances (`swarmctl bench plan --suite`, by its lowercase
+/// name).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum PlanSuite {
     /// 10×10×5 voxels, 150 obstacles, 100 drones in 5 groups (the paper's setting).
     Paper,

@@ -8,43 +8,13 @@ pub struct Args {
     target: Target,
 }
 
-/// The planner suites, as the command line names them.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-enum SuiteArg {
-    /// 10×10×5 voxels, 150 obstacles, 100 drones in 5 groups (the paper's setting).
-    Paper,
-    /// 32×32×8 voxels, 10% obstacles, 400 drones in 10 groups.
-    Scale,
-    /// 32×32 grid, 10% obstacles, 50 agents each its own group (plain MAPF).
-    Mapf,
-    /// 32×32×8 voxels, 10% obstacles, 500 drones in one anonymous group.
-    Anonymous,
-    /// 5×5×2 voxels, 12 obstacles, 16 drones in 4 groups: small and tight.
-    Dense,
-    /// 5×5×2 voxels, 12 obstacles, 22 drones in 4 groups: tighter still.
-    Crowded,
-}
-
-impl From<SuiteArg> for PlanSuite {
-    fn from(suite: SuiteArg) -> Self {
-        match suite {
-            SuiteArg::Paper => PlanSuite::Paper,
-            SuiteArg::Scale => PlanSuite::Scale,
-            SuiteArg::Mapf => PlanSuite::Mapf,
-            SuiteArg::Anonymous => PlanSuite::Anonymous,
-            SuiteArg::Dense => PlanSuite::Dense,
-            SuiteArg::Crowded => PlanSuite::Crowded,
-        }
-    }
-}
-
 #[derive(Debug, clap::Subcommand)]
 enum Target {
     /// Time the planner on seeded random instances.
     Plan {
         /// Which instance family.
         #[arg(long, value_enum, default_value = "paper")]
-        suite: SuiteArg,
+        suite: PlanSuite,
         /// Number of seeds (1..=N).
         #[arg(long, default_value_t = 20)]
         seeds: u64,
@@ -121,7 +91,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             seeds,
             deadline,
             cbm_only,
-        } => plan(suite.into(), seeds, deadline, cbm_only),
+        } => plan(suite, seeds, deadline, cbm_only),
         Target::Faults {
             mission,
             reduced,
