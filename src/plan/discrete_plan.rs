@@ -35,6 +35,28 @@ pub struct PlanLeg {
     pub makespan_steps: u32,
     /// The leg's makespan lower bound (bottleneck assignment), steps.
     pub lower_bound_steps: u32,
+    /// The largest makespan the planner proved unavoidable for the leg, steps:
+    /// `makespan_steps` when the leg is proven optimal, less when the deadline
+    /// left a gap. `None` in plan files written before plans could have a gap
+    /// (every leg was then optimal).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub proven_bound_steps: Option<u32>,
+}
+
+impl PlanLeg {
+    /// How many steps the leg may be above the optimum: 0 when proven optimal.
+    pub fn gap_steps(&self) -> u32 {
+        self.proven_bound_steps
+            .map_or(0, |bound| self.makespan_steps.saturating_sub(bound))
+    }
+}
+
+impl DiscretePlan {
+    /// How many steps the whole flight may be above the optimum of flying its legs
+    /// one after the other: the legs' gaps added up.
+    pub fn gap_steps(&self) -> u32 {
+        self.legs.iter().map(PlanLeg::gap_steps).sum()
+    }
 }
 
 /// One drone's assignment and path.

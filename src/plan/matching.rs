@@ -14,11 +14,17 @@ const NONE: usize = usize::MAX;
 /// assert_eq!(maximum_matching(&[vec![0, 1], vec![0]], 2), 2);
 /// ```
 pub fn maximum_matching(adjacency: &[Vec<usize>], right_count: usize) -> usize {
+    matched(adjacency, right_count).iter().flatten().count()
+}
+
+/// A maximum matching itself: for each left vertex, the right vertex it is matched
+/// to. Each left vertex tries its adjacency in order, so listing the preferred
+/// right vertices first biases the matching towards them.
+pub(crate) fn matched(adjacency: &[Vec<usize>], right_count: usize) -> Vec<Option<usize>> {
     let left_count = adjacency.len();
     let mut match_left = vec![NONE; left_count];
     let mut match_right = vec![NONE; right_count];
     let mut layer = vec![u32::MAX; left_count];
-    let mut size = 0;
     loop {
         // BFS from free left vertices builds the layered graph of shortest augmenting paths.
         let mut queue = VecDeque::new();
@@ -43,13 +49,14 @@ pub fn maximum_matching(adjacency: &[Vec<usize>], right_count: usize) -> usize {
             }
         }
         if !found {
-            return size;
+            return match_left
+                .iter()
+                .map(|&r| (r != NONE).then_some(r))
+                .collect();
         }
         for l in 0..left_count {
-            if match_left[l] == NONE
-                && augment(l, adjacency, &mut match_left, &mut match_right, &mut layer)
-            {
-                size += 1;
+            if match_left[l] == NONE {
+                augment(l, adjacency, &mut match_left, &mut match_right, &mut layer);
             }
         }
     }

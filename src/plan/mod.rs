@@ -1,6 +1,11 @@
 //! Target assignment and path finding (TAPF): one collision-free voxel path per drone,
 //! each group's goals assigned to its drones, with the least possible makespan.
 //!
+//! Each leg is planned anytime (`anytime`): a first plan fast (`first_plan`: PIBT
+//! towards a bottleneck assignment of goals), then the exact search below to beat
+//! it, stopping when it meets the lower bound, proves it optimal, or runs out of
+//! time; the plan states the gap between its makespan and the bound proven.
+//!
 //! [`solve_tapf`] runs CBM: a conflict tree over groups whose low level routes one
 //! group at a time as a flow on a time-expanded network. When the tree grows past a
 //! node budget, an exact method starts beside it on a second thread: a bounded proof
@@ -14,12 +19,14 @@
 //! [`validate_rest`] checks such a plan the same way. Reading a plan file back
 //! (`swarmctl fly --plan`) is `compiled::file`'s job, above this module.
 
+mod anytime;
 mod cbm;
 mod conflict;
 mod constraints;
 mod discrete_plan;
 mod error;
 mod feasibility;
+mod first_plan;
 mod low_level;
 mod lower_bound;
 mod matching;

@@ -18,6 +18,8 @@ pub(crate) const TERMINAL: u32 = NONE - 1;
 #[derive(Debug, Clone)]
 pub(crate) struct GroupCells {
     pub starts: Vec<u32>,
+    /// The group's goals, in the order given.
+    pub goals: Vec<u32>,
     pub is_goal: Vec<bool>,
     /// Moves from the nearest start: cell `c` is useless before step `from_start[c]`.
     pub from_start: Vec<u32>,
@@ -35,6 +37,7 @@ impl GroupCells {
             from_start: space.distances(&starts),
             to_goal: space.distances(goals),
             starts,
+            goals: goals.to_vec(),
             is_goal,
         }
     }

@@ -13,16 +13,27 @@ pub struct PlanOptions {
     /// (impossibility proof, then the SAT encoding) beside it on a second thread;
     /// the first to finish answers (`None`: never, CBM alone; for comparison).
     pub exact_after_ct_nodes: Option<u64>,
+    /// Start each leg with a fast first plan (PIBT towards assigned goals) that
+    /// the exact search then has to beat (`false`: the exact search alone, as
+    /// before anytime planning; for comparison).
+    pub first_plan: bool,
+    /// Fail rather than return a plan not proven makespan-optimal. Without it,
+    /// a leg whose exact search is still running at the deadline keeps its first
+    /// plan, and the plan states its gap to the best lower bound proven.
+    pub require_optimal: bool,
 }
 
 impl Default for PlanOptions {
-    /// A minute of search, seed 0, the SAT encoding after 256 conflict-tree nodes:
-    /// enough for the bundled missions, deterministic.
+    /// A minute of search, seed 0, the SAT encoding after 256 conflict-tree nodes,
+    /// a first plan, the best plan by the deadline: enough for the bundled
+    /// missions, deterministic.
     fn default() -> Self {
         Self {
             deadline: Duration::from_secs(60),
             seed: 0,
             exact_after_ct_nodes: Some(256),
+            first_plan: true,
+            require_optimal: false,
         }
     }
 }

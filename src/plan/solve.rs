@@ -1,7 +1,7 @@
 //! The planner's entry points: a whole flight leg by leg ([`solve`]), or one TAPF
 //! instance on any grid ([`solve_tapf`]), with the search's figures.
 
-use super::cbm::{Search, arrival_step};
+use super::anytime::plan_anytime;
 use super::discrete_plan::{DiscretePlan, DronePlan, PlanLeg};
 use super::error::PlanError;
 use super::lower_bound::group_lower_bound;
@@ -111,13 +111,16 @@ pub(super) fn solve_from(
         .collect();
     let mut stats = PlanStats::default();
     let mut legs = Vec::new();
-    for leg in mission.legs().into_iter().skip(from_leg) {
+    let flight_legs = mission.legs();
+    let leg_count = flight_legs.len();
+    for (k, leg) in flight_legs.into_iter().enumerate().skip(from_leg) {
         let (tapf, owners) = leg_instance(&leg.targets, &at)?;
         let remaining = options.deadline.saturating_sub(started.elapsed());
         let leg_options = PlanOptions {
             deadline: remaining,
             ..options.clone()
         };
+        let legs_after = leg_count - k - 1;
         let mut in_leg = |p: &Progress| {
             progress(&Progress {
                 leg: leg.name.clone(),
@@ -135,12 +138,10 @@ pub(super) fn solve_from(
             });
             (&*grid, &*space)
         };
-        let solved =
-            solve_in_space(grid, space, &tapf, &leg_options, &mut in_leg).map_err(|e| {
-                PlanError::Leg {
-                    leg: leg.name.clone(),
-                    reason: Box::new(named(e, mission, &owners)),
-                }
+        let solved = solve_in_space(grid, space, &tapf, (&leg_options, legs_after), &mut in_leg)
+            .map_err(|e| PlanError::Leg {
+                leg: leg.name.clone(),
+                reason: Box::new(named(e, mission, &owners)),
             })?;
         for ((gi, di), group_paths) in owners.iter().zip(&solved.paths) {
             let drones: Vec<usize> = match di {
@@ -160,6 +161,7 @@ pub(super) fn solve_from(
             hold_s: leg.hold_s,
             makespan_steps: solved.makespan_steps,
             lower_bound_steps: solved.stats.initial_lower_bound_steps,
+            proven_bound_steps: Some(solved.stats.best_lower_bound_steps),
         });
         stats.add_leg(&leg.name, &solved.stats, solved.makespan_steps);
     }
@@ -286,15 +288,17 @@ pub fn solve_tapf(
     options: &PlanOptions,
 ) -> Result<TapfSolution, PlanError> {
     let space = Space::new(grid, options.seed);
-    solve_in_space(grid, &space, groups, options, &mut |_| {})
+    solve_in_space(grid, &space, groups, (options, 0), &mut |_| {})
 }
 
-/// [`solve_tapf`] on a compact space built once for several instances.
+/// [`solve_tapf`] on a compact space built once for several instances, with
+/// `legs_after` legs of the same flight still to plan within `options.deadline`
+/// (see [`improve_until`]).
 fn solve_in_space(
     grid: &VoxelGrid,
     space: &Space,
     groups: &[TapfGroup],
-    options: &PlanOptions,
+    (options, legs_after): (&PlanOptions, usize),
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<TapfSolution, PlanError> {
     let started = Instant::now();
@@ -345,6 +349,7 @@ fn solve_in_space(
                 ct_nodes_expanded: 0,
                 open_nodes: 0,
                 best_lower_bound_steps: lower_bounds.iter().copied().max().unwrap_or(0),
+                incumbent_steps: None,
                 elapsed: started.elapsed(),
             });
         }
@@ -359,43 +364,46 @@ fn solve_in_space(
         lower_bounds.push(lb);
         cells.push(GroupCells::new(space, starts, &goals));
     }
-    let initial_lower_bound = lower_bounds.iter().copied().max().unwrap_or(0);
-    // Drones can always wait out a finite set of constraints; this bound only guards
-    // against runaway memory on instances no search could finish anyway.
-    let max_horizon = initial_lower_bound + 2 * space.len() as u32 + 64;
-    let deadline_at = started + options.deadline;
-    let mut search = Search::new(
+    let legs = (options, legs_after);
+    let routed = plan_anytime(space, (&cells, &lower_bounds), legs, started, progress)?;
+    let (paths, makespan) = (&routed.paths, routed.makespan);
+    Ok(tapf_solution(
+        grid,
         space,
-        &cells,
-        &lower_bounds,
-        max_horizon,
-        deadline_at,
-        options,
-    );
-    search.stats.initial_lower_bound_steps = initial_lower_bound;
-    search.stats.best_lower_bound_steps = initial_lower_bound;
-    let routings = search.run(progress)?;
-    let mut stats = search.stats;
-    let makespan = routings.iter().map(|r| r.min_horizon).max().unwrap_or(0);
-    let paths = routings
+        paths,
+        makespan,
+        routed.stats,
+        started,
+    ))
+}
+
+/// A TAPF solution from compact paths (per group, per drone), each padded with
+/// waits to `makespan`.
+fn tapf_solution<P: AsRef<[Vec<u32>]>>(
+    grid: &VoxelGrid,
+    space: &Space,
+    groups: &[P],
+    makespan: u32,
+    mut stats: PlanStats,
+    started: Instant,
+) -> TapfSolution {
+    let paths = groups
         .iter()
-        .map(|routing| {
-            routing
-                .paths
+        .map(|group| {
+            group
+                .as_ref()
                 .iter()
                 .map(|path| {
                     let at = |t: usize| grid.voxel(space.world_cell(path[t.min(path.len() - 1)]));
-                    debug_assert!(arrival_step(path) <= u64::from(makespan));
                     (0..=makespan as usize).map(at).collect()
                 })
                 .collect()
         })
         .collect();
-    stats.best_lower_bound_steps = makespan;
     stats.total_time = started.elapsed();
-    Ok(TapfSolution {
+    TapfSolution {
         paths,
         makespan_steps: makespan,
         stats,
-    })
+    }
 }

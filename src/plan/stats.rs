@@ -27,6 +27,12 @@ pub struct PlanStats {
     /// Wall time inside the low level (serialised as `low_level_time_s`, seconds).
     #[serde(rename = "low_level_time_s", serialize_with = "as_seconds")]
     pub low_level_time: Duration,
+    /// The first plan's makespan, steps (`None`: no first plan was made or found).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_plan_steps: Option<u32>,
+    /// Wall time making the first plan (serialised as `first_plan_time_s`, seconds).
+    #[serde(rename = "first_plan_time_s", serialize_with = "as_seconds")]
+    pub first_plan_time: Duration,
     /// Wall time of the whole call, from the lower bounds to the plan (serialised as
     /// `total_time_s`, seconds).
     #[serde(rename = "total_time_s", serialize_with = "as_seconds")]
@@ -45,6 +51,14 @@ pub struct LegStats {
     pub makespan_steps: u32,
     /// Its lower bound before search, steps.
     pub lower_bound_steps: u32,
+    /// The largest makespan proven unavoidable, steps: its makespan when the leg
+    /// is proven optimal.
+    pub proven_bound_steps: u32,
+    /// Its first plan's makespan, steps, if one was made.
+    pub first_plan_steps: Option<u32>,
+    /// Time to its first plan (serialised as `first_plan_time_s`, seconds).
+    #[serde(rename = "first_plan_time_s", serialize_with = "as_seconds")]
+    pub first_plan_time: Duration,
     /// Conflict-tree nodes expanded for it.
     pub ct_nodes_expanded: u64,
     /// Its planning time (serialised as `time_s`, seconds).
@@ -69,10 +83,20 @@ impl PlanStats {
         self.low_level_time += leg.low_level_time;
         self.sat_horizons += leg.sat_horizons;
         self.sat_time += leg.sat_time;
+        self.first_plan_time += leg.first_plan_time;
+        self.first_plan_steps = match (self.first_plan_steps, leg.first_plan_steps) {
+            (None, _) if !self.legs.is_empty() => None,
+            (Some(total), Some(steps)) => Some(total + steps),
+            (None, steps) => steps,
+            (Some(_), None) => None,
+        };
         self.legs.push(LegStats {
             name: name.to_string(),
             makespan_steps,
             lower_bound_steps: leg.initial_lower_bound_steps,
+            proven_bound_steps: leg.best_lower_bound_steps,
+            first_plan_steps: leg.first_plan_steps,
+            first_plan_time: leg.first_plan_time,
             ct_nodes_expanded: leg.ct_nodes_expanded,
             time: leg.total_time,
         });
@@ -98,6 +122,8 @@ pub struct Progress {
     pub open_nodes: usize,
     /// The makespan proven unavoidable so far, steps.
     pub best_lower_bound_steps: u32,
+    /// The best plan found so far, its makespan, steps (`None`: none yet).
+    pub incumbent_steps: Option<u32>,
     /// Time since the search started.
     pub elapsed: Duration,
 }
@@ -111,6 +137,15 @@ pub enum PlanPhase {
         groups_done: usize,
         /// Groups in the leg.
         groups: usize,
+    },
+    /// A first plan, fast: every drone stepping towards its goal.
+    FirstPlan {
+        /// Steps planned so far.
+        step: u32,
+        /// Drones at their goals after them.
+        drones_at_goal: usize,
+        /// Drones in the leg.
+        drones: usize,
     },
     /// The conflict tree's root, first part: each group's least horizon on its own,
     /// grown one step at a time from its lower bound.
@@ -165,6 +200,14 @@ impl std::fmt::Display for PlanPhase {
                 f,
                 "routing each group at {horizon_steps} steps, {groups_done}/{groups} done \
                  ({drones_routed}/{drones} drones of the next)"
+            ),
+            PlanPhase::FirstPlan {
+                step,
+                drones_at_goal,
+                drones,
+            } => write!(
+                f,
+                "first plan, step {step}, {drones_at_goal}/{drones} drones at their goals"
             ),
             PlanPhase::ConflictTree => write!(f, "conflict tree"),
         }

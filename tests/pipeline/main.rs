@@ -6,6 +6,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod anytime;
 mod architecture_doc;
 mod ellipsoid;
 mod file_sizes;

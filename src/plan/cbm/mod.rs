@@ -421,6 +421,7 @@ fn snapshot(
         ct_nodes_expanded: expanded,
         open_nodes: open,
         best_lower_bound_steps: bound_steps,
+        incumbent_steps: None,
         elapsed: started.elapsed(),
     }
 }

@@ -42,9 +42,14 @@ pub struct Args {
     #[allow(rustdoc::invalid_html_tags)]
     #[arg(long)]
     pub(super) log: Option<PathBuf>,
-    /// Planner deadline in seconds (when no --plan is given).
+    /// Planner deadline in seconds (when no --plan is given): the best plan found
+    /// by then flies, its gap to the lower bound stated.
     #[arg(long, default_value_t = 60.0)]
     pub(super) deadline: f64,
+    /// Fly only a plan proven makespan-optimal (when no --plan is given): fail at
+    /// the deadline rather than fly a plan above the lower bound.
+    #[arg(long)]
+    pub(super) optimal: bool,
     /// Seconds a replan in flight may take (after a drone is lost, or retires and
     /// is down) while every drone holds; past it the flight falls back to holding
     /// the lost drone's dependants while the rest finish and land.

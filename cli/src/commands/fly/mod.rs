@@ -39,7 +39,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // Composed and checked before anything starts; what flies is exactly this.
     let checked = match &args.plan {
         Some(path) => plan_source::load_plan(path, &mission)?,
-        None => plan_source::plan_now(&mission, args.deadline)?,
+        None => plan_source::plan_now(&mission, args.deadline, args.optimal)?,
     };
     let plan = checked.discrete();
     let path = args

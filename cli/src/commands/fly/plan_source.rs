@@ -16,12 +16,18 @@ pub(super) fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<Checke
 
 /// Plans the mission now, then composes and checks the plan as `swarmctl plan`
 /// does; refused, naming the violation, before anything starts.
-pub(super) fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<CheckedPlan> {
+/// With `optimal`, only a plan proven makespan-optimal is accepted.
+pub(super) fn plan_now(
+    mission: &Mission,
+    deadline_s: f64,
+    optimal: bool,
+) -> anyhow::Result<CheckedPlan> {
     let options = plan::PlanOptions {
         deadline: std::time::Duration::try_from_secs_f64(deadline_s)
             .ok()
             .filter(|d| !d.is_zero())
             .context("--deadline must be a positive number of seconds")?,
+        require_optimal: optimal,
         ..plan::PlanOptions::default()
     };
     let solution = plan::solve(mission, &options).with_context(|| {
@@ -31,6 +37,24 @@ pub(super) fn plan_now(mission: &Mission, deadline_s: f64) -> anyhow::Result<Che
             crate::commands::plan::reach_hint(mission)
         )
     })?;
+    let p = &solution.plan;
+    let proven: u32 = solution
+        .stats
+        .legs
+        .iter()
+        .map(|l| l.proven_bound_steps)
+        .sum();
+    println!(
+        "planned {}: makespan {} steps, {} in {:.2} s",
+        mission.name,
+        p.makespan_steps,
+        crate::commands::plan::bound_and_gap(
+            p.makespan_steps,
+            proven,
+            solution.stats.initial_lower_bound_steps
+        ),
+        solution.stats.total_time.as_secs_f64()
+    );
     let lower_bound_steps = solution.stats.initial_lower_bound_steps;
     compiled::compile_plan(mission, &solution.plan, lower_bound_steps).with_context(|| {
         format!(

@@ -1,0 +1,250 @@
+//! A leg planned anytime: a first plan fast ([`first_plan_within`]), finished by
+//! the exact search where PIBT stalls, then the exact search to beat it until
+//! [`improve_until`], which keeps time for the legs still to plan.
+
+use super::cbm::{Search, arrival_step};
+use super::error::PlanError;
+use super::first_plan::{FirstPlan, Stepping, first_plan};
+use super::network::GroupCells;
+use super::options::PlanOptions;
+use super::space::Space;
+use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
+use std::time::{Duration, Instant};
+
+/// A leg's routing in compact cells: per group, per drone (in start order), its
+/// cell at every step up to `makespan` (or until it stays), with the figures.
+pub(super) struct Routed {
+    pub paths: Vec<Vec<Vec<u32>>>,
+    pub makespan: u32,
+    pub stats: PlanStats,
+}
+
+/// Plans one leg's groups (`cells`, with their bottleneck `lower_bounds`) anytime:
+/// a first plan, returned at once if it meets the bound; else the exact search
+/// for a better one, capped below the first plan's makespan, until
+/// [`improve_until`]. Past that, the first plan with the bound proven so far, or
+/// (with `require_optimal`) the deadline error. The search started at `started`.
+pub(super) fn plan_anytime(
+    space: &Space,
+    (cells, lower_bounds): (&[GroupCells], &[u32]),
+    (options, legs_after): (&PlanOptions, usize),
+    started: Instant,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Routed, PlanError> {
+    let initial_lower_bound = lower_bounds.iter().copied().max().unwrap_or(0);
+    // Drones can always wait out a finite set of constraints; this bound only guards
+    // against runaway memory on instances no search could finish anyway.
+    let max_horizon = initial_lower_bound + 2 * space.len() as u32 + 64;
+    let deadline_at = started + options.deadline;
+    let first = if options.first_plan {
+        first_plan_within(space, cells, lower_bounds, (started, options), progress)
+    } else {
+        None
+    };
+    let first_steps = first.as_ref().map(|(f, _)| f.makespan);
+    let mut stats = PlanStats {
+        initial_lower_bound_steps: initial_lower_bound,
+        best_lower_bound_steps: initial_lower_bound,
+        first_plan_steps: first_steps,
+        first_plan_time: first.as_ref().map_or_else(Duration::default, |(_, t)| *t),
+        ..PlanStats::default()
+    };
+    let answer = |first: FirstPlan, stats| Routed {
+        paths: first.paths,
+        makespan: first.makespan,
+        stats,
+    };
+    let first = match first {
+        Some((first, _)) if first.makespan <= initial_lower_bound => {
+            // At the bound: nothing can beat it.
+            stats.best_lower_bound_steps = first.makespan;
+            return Ok(answer(first, stats));
+        }
+        other => other,
+    };
+    // With a first plan in hand, the exact search only has to find a better one:
+    // no horizon at or past the first plan's is worth trying.
+    let cap = first_steps.map_or(max_horizon, |f| f.saturating_sub(1).min(max_horizon));
+    let until = match &first {
+        Some((_, took)) => improve_until(deadline_at, *took, legs_after, options),
+        None => deadline_at,
+    };
+    let improve_options = PlanOptions {
+        deadline: until.saturating_duration_since(started),
+        ..options.clone()
+    };
+    let mut search = Search::new(space, cells, lower_bounds, cap, until, &improve_options);
+    search.stats = stats;
+    let outcome = search.run(&mut |p: &Progress| {
+        progress(&Progress {
+            incumbent_steps: first_steps,
+            ..p.clone()
+        });
+    });
+    let mut stats = search.stats;
+    match (outcome, first) {
+        (Ok(routings), _) => {
+            let makespan = routings.iter().map(|r| r.min_horizon).max().unwrap_or(0);
+            let paths: Vec<Vec<Vec<u32>>> = routings.iter().map(|r| r.paths.clone()).collect();
+            debug_assert!(
+                paths
+                    .iter()
+                    .flatten()
+                    .all(|p| arrival_step(p) <= u64::from(makespan))
+            );
+            stats.best_lower_bound_steps = makespan;
+            Ok(Routed {
+                paths,
+                makespan,
+                stats,
+            })
+        }
+        // Nothing below the first plan's makespan: it is optimal.
+        (Err(PlanError::HorizonExceeded(_) | PlanError::NoSolution), Some((first, _))) => {
+            stats.best_lower_bound_steps = first.makespan;
+            Ok(answer(first, stats))
+        }
+        (Err(PlanError::Deadline { .. }), Some((first, _))) if !options.require_optimal => {
+            Ok(answer(first, stats))
+        }
+        (Err(e), _) => Err(e),
+    }
+}
+
+/// Until when the exact search may try to beat a first plan that took `first`:
+/// the deadline when optimality is required (a leg not proven optimal fails the
+/// flight anyway), else the deadline less three times `first` for each of the
+/// `legs_after` legs still to plan, which they keep for their own first plans
+/// (a leg's is about as costly as the next's: the same drones in the same world).
+fn improve_until(
+    deadline_at: Instant,
+    first: Duration,
+    legs_after: usize,
+    options: &PlanOptions,
+) -> Instant {
+    if options.require_optimal {
+        return deadline_at;
+    }
+    let reserve = first.saturating_mul(3 * legs_after as u32);
+    deadline_at
+        .checked_sub(reserve)
+        .unwrap_or_else(Instant::now)
+}
+
+/// The first plan ([`first_plan`]) within the deadline (half of it when optimality
+/// is required, so the exact search keeps the other half), and within steps
+/// enough for any instance a first plan is good for; with the time it took.
+fn first_plan_within(
+    space: &Space,
+    cells: &[GroupCells],
+    lower_bounds: &[u32],
+    (started, options): (Instant, &PlanOptions),
+    progress: &mut dyn FnMut(&Progress),
+) -> Option<(FirstPlan, Duration)> {
+    let bound = lower_bounds.iter().copied().max().unwrap_or(0);
+    let max_steps = bound.saturating_mul(3).saturating_add(100);
+    // Without optimality required, a first plan is worth the whole deadline: no
+    // plan at all is the one answer worse than a plan with a gap.
+    let until = if options.require_optimal {
+        started + options.deadline / 2
+    } else {
+        started + options.deadline
+    };
+    let began = Instant::now();
+    let mut throttle = Throttle::new();
+    let mut on_step = |s: Stepping| {
+        if throttle.due() {
+            progress(&Progress {
+                leg: String::new(),
+                phase: PlanPhase::FirstPlan {
+                    step: s.step,
+                    drones_at_goal: s.at_goal,
+                    drones: s.drones,
+                },
+                ct_nodes_expanded: 0,
+                open_nodes: 0,
+                best_lower_bound_steps: bound,
+                incumbent_steps: None,
+                elapsed: started.elapsed(),
+            });
+        }
+    };
+    let mut found = first_plan(
+        space,
+        cells,
+        lower_bounds,
+        (max_steps, until),
+        options.seed,
+        &mut on_step,
+    )?;
+    if !found.complete {
+        // The rest is small, or the exact search would not finish it soon either:
+        // ten times what PIBT took (at least 50 ms), at most a quarter of what is
+        // left, so the search from the start keeps the rest.
+        let left = until.saturating_duration_since(Instant::now());
+        let budget = (began.elapsed() * 10)
+            .max(Duration::from_millis(50))
+            .min(left / 4);
+        found = finish(space, cells, found, Instant::now() + budget, options)?;
+    }
+    Some((found, began.elapsed()))
+}
+
+/// A stalled first plan finished by the exact search from where it stalled (see
+/// `FirstPlan::complete`): by then most drones are on their goals, so the rest is
+/// a small instance over few steps.
+fn finish(
+    space: &Space,
+    cells: &[GroupCells],
+    prefix: FirstPlan,
+    until: Instant,
+    options: &PlanOptions,
+) -> Option<FirstPlan> {
+    let rest: Vec<GroupCells> = cells
+        .iter()
+        .zip(&prefix.paths)
+        .map(|(group, paths)| {
+            let at: Vec<u32> = paths.iter().filter_map(|p| p.last().copied()).collect();
+            GroupCells::new(space, at, &group.goals)
+        })
+        .collect();
+    // Each group's farthest drone from its nearest goal: enough to start from.
+    let bounds: Vec<u32> = rest
+        .iter()
+        .map(|g| {
+            let far = g.starts.iter().map(|&s| g.to_goal[s as usize]).max();
+            far.unwrap_or(0)
+        })
+        .collect();
+    let bound = bounds.iter().copied().max().unwrap_or(0);
+    let max_horizon = bound + 2 * space.len() as u32 + 64;
+    let remaining = until.checked_duration_since(Instant::now())?;
+    let rest_options = PlanOptions {
+        deadline: remaining,
+        ..options.clone()
+    };
+    let mut search = Search::new(space, &rest, &bounds, max_horizon, until, &rest_options);
+    let routings = search.run(&mut |_| {}).ok()?;
+    let tail = routings.iter().map(|r| r.min_horizon).max().unwrap_or(0);
+    let paths = prefix
+        .paths
+        .into_iter()
+        .zip(&routings)
+        .map(|(group, routing)| {
+            group
+                .into_iter()
+                .zip(&routing.paths)
+                .map(|(mut path, rest)| {
+                    let last = rest.len() - 1;
+                    path.extend((1..=tail as usize).map(|t| rest[t.min(last)]));
+                    path
+                })
+                .collect()
+        })
+        .collect();
+    Some(FirstPlan {
+        paths,
+        makespan: prefix.makespan + tail,
+        complete: true,
+    })
+}
