@@ -5,10 +5,12 @@
 use super::cbm::{Search, arrival_step};
 use super::error::PlanError;
 use super::first_plan::{FirstPlan, Stepping, first_plan};
+use super::low_level::GroupRouting;
 use super::network::GroupCells;
 use super::options::PlanOptions;
 use super::space::Space;
 use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
+use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 /// A leg's routing in compact cells: per group, per drone (in start order), its
@@ -36,19 +38,42 @@ pub(super) fn plan_anytime(
     // against runaway memory on instances no search could finish anyway.
     let max_horizon = initial_lower_bound + 2 * space.len() as u32 + 64;
     let deadline_at = started + options.deadline;
+    let mut stats = PlanStats {
+        initial_lower_bound_steps: initial_lower_bound,
+        best_lower_bound_steps: initial_lower_bound,
+        ..PlanStats::default()
+    };
     let first = if options.first_plan {
+        // Where the exact search is quick, as on most instances of a few hundred
+        // drones, a first plan would only cost time: it gets a short head start.
+        let head_start_at = started + head_start(space, cells, initial_lower_bound, options);
+        let head_options = PlanOptions {
+            deadline: head_start_at.saturating_duration_since(started),
+            ..options.clone()
+        };
+        let mut search = Search::new(
+            space,
+            cells,
+            lower_bounds,
+            max_horizon,
+            head_start_at,
+            &head_options,
+        );
+        search.stats = stats;
+        let outcome = search.run(progress);
+        stats = search.stats;
+        match outcome {
+            Ok(routings) => return Ok(routed(&routings, stats)),
+            Err(PlanError::Deadline { .. }) => {}
+            Err(proof) => return Err(proof),
+        }
         first_plan_within(space, cells, lower_bounds, (started, options), progress)
     } else {
         None
     };
     let first_steps = first.as_ref().map(|(f, _)| f.makespan);
-    let mut stats = PlanStats {
-        initial_lower_bound_steps: initial_lower_bound,
-        best_lower_bound_steps: initial_lower_bound,
-        first_plan_steps: first_steps,
-        first_plan_time: first.as_ref().map_or_else(Duration::default, |(_, t)| *t),
-        ..PlanStats::default()
-    };
+    stats.first_plan_steps = first_steps;
+    stats.first_plan_time = first.as_ref().map_or_else(Duration::default, |(_, t)| *t);
     let answer = |first: FirstPlan, stats| Routed {
         paths: first.paths,
         makespan: first.makespan,
@@ -83,22 +108,7 @@ pub(super) fn plan_anytime(
     });
     let mut stats = search.stats;
     match (outcome, first) {
-        (Ok(routings), _) => {
-            let makespan = routings.iter().map(|r| r.min_horizon).max().unwrap_or(0);
-            let paths: Vec<Vec<Vec<u32>>> = routings.iter().map(|r| r.paths.clone()).collect();
-            debug_assert!(
-                paths
-                    .iter()
-                    .flatten()
-                    .all(|p| arrival_step(p) <= u64::from(makespan))
-            );
-            stats.best_lower_bound_steps = makespan;
-            Ok(Routed {
-                paths,
-                makespan,
-                stats,
-            })
-        }
+        (Ok(routings), _) => Ok(routed(&routings, stats)),
         // Nothing below the first plan's makespan: it is optimal.
         (Err(PlanError::HorizonExceeded(_) | PlanError::NoSolution), Some((first, _))) => {
             stats.best_lower_bound_steps = first.makespan;
@@ -109,6 +119,45 @@ pub(super) fn plan_anytime(
         }
         (Err(e), _) => Err(e),
     }
+}
+
+/// The exact search's routing as a leg's answer: optimal, so proven.
+fn routed(routings: &[Rc<GroupRouting>], mut stats: PlanStats) -> Routed {
+    let makespan = routings.iter().map(|r| r.min_horizon).max().unwrap_or(0);
+    let paths: Vec<Vec<Vec<u32>>> = routings.iter().map(|r| r.paths.clone()).collect();
+    debug_assert!(
+        paths
+            .iter()
+            .flatten()
+            .all(|p| arrival_step(p) <= u64::from(makespan))
+    );
+    stats.best_lower_bound_steps = makespan;
+    Routed {
+        paths,
+        makespan,
+        stats,
+    }
+}
+
+/// Time-expanded network size times drones past which a leg is big: its exact
+/// search takes seconds (1,000 drones in 50 groups on 40×40×10: 230–600 M, 6–11 s
+/// a leg), where the suites' legs are at most 72 M (400 drones in 10 groups on
+/// 32×32×8) and take under a second.
+const BIG_LEG_WORK: u64 = 150_000_000;
+
+/// How long the exact search runs alone before a first plan is made. A first
+/// plan costs the exact search a restart (it is capped below the plan it has to
+/// beat), so a leg the exact search would finish soon is left to it for a
+/// quarter of the deadline, at most 5 s: legs up to a few hundred drones keep
+/// their time. A big leg (see [`BIG_LEG_WORK`]) gets its first plan at once.
+/// Racing the two on both cores would spare the choice.
+fn head_start(space: &Space, cells: &[GroupCells], bound: u32, options: &PlanOptions) -> Duration {
+    let drones: usize = cells.iter().map(|g| g.starts.len()).sum();
+    let work = drones as u64 * space.len() as u64 * u64::from(bound.max(1));
+    if work >= BIG_LEG_WORK {
+        return Duration::ZERO;
+    }
+    (options.deadline / 4).min(Duration::from_secs(5))
 }
 
 /// Until when the exact search may try to beat a first plan that took `first`:

@@ -63,10 +63,11 @@ proptest! {
     }
 }
 
-/// Where the exact search finishes, the first plan changes nothing but the time:
-/// the same optimal makespan, leg by leg, as the exact search alone.
+/// Where the exact search finishes, anytime planning changes nothing but the
+/// time: the same optimal makespan, leg by leg, as the exact search alone, and
+/// no gap.
 #[test]
-fn with_time_enough_the_first_plan_keeps_every_leg_optimal() {
+fn with_time_enough_anytime_planning_keeps_every_leg_optimal() {
     for seed in 1..=3 {
         let m = show(120, 6, [16, 16, 5], seed);
         let anytime = plan::solve(&m, &PlanOptions::default()).expect("planned");
@@ -81,15 +82,6 @@ fn with_time_enough_the_first_plan_keeps_every_leg_optimal() {
         };
         assert_eq!(legs(&anytime), legs(&exact), "seed {seed}");
         assert_eq!(anytime.plan.gap_steps(), 0, "seed {seed}");
-        assert!(
-            anytime
-                .stats
-                .legs
-                .iter()
-                .all(|l| l.first_plan_steps.is_some()),
-            "seed {seed}: every leg has a first plan: {:?}",
-            anytime.stats.legs
-        );
     }
 }
 
