@@ -21,14 +21,15 @@ pub(super) struct Routed {
     pub stats: PlanStats,
 }
 
-/// Plans one leg's groups (`cells`, with their bottleneck `lower_bounds`) anytime:
+/// Plans one leg's groups (`cells`, with their bottleneck `lower_bounds` and
+/// assignments `assigned`, per group, per drone, a goal) anytime:
 /// a first plan, returned at once if it meets the bound; else the exact search
 /// for a better one, capped below the first plan's makespan, until
 /// [`improve_until`]. Past that, the first plan with the bound proven so far, or
 /// (with `require_optimal`) the deadline error. The search started at `started`.
 pub(super) fn plan_anytime(
     space: &Space,
-    (cells, lower_bounds): (&[GroupCells], &[u32]),
+    (cells, lower_bounds, assigned): (&[GroupCells], &[u32], &[Vec<u32>]),
     (options, legs_after): (&PlanOptions, usize),
     started: Instant,
     progress: &mut dyn FnMut(&Progress),
@@ -43,6 +44,7 @@ pub(super) fn plan_anytime(
         best_lower_bound_steps: initial_lower_bound,
         ..PlanStats::default()
     };
+    let mut head_start_used = Duration::ZERO;
     let first = if options.first_plan {
         // Where the exact search is quick, as on most instances of a few hundred
         // drones, a first plan would only cost time: it gets a short head start.
@@ -60,14 +62,17 @@ pub(super) fn plan_anytime(
             &head_options,
         );
         search.stats = stats;
+        let head_started = Instant::now();
         let outcome = search.run(progress);
+        head_start_used = head_started.elapsed();
         stats = search.stats;
         match outcome {
             Ok(routings) => return Ok(routed(&routings, stats)),
             Err(PlanError::Deadline { .. }) => {}
             Err(proof) => return Err(proof),
         }
-        first_plan_within(space, cells, lower_bounds, (started, options), progress)
+        let groups = (cells, lower_bounds, assigned);
+        first_plan_within(space, groups, (started, options), progress)
     } else {
         None
     };
@@ -91,7 +96,12 @@ pub(super) fn plan_anytime(
     // no horizon at or past the first plan's is worth trying.
     let cap = first_steps.map_or(max_horizon, |f| f.saturating_sub(1).min(max_horizon));
     let until = match &first {
-        Some((_, took)) => improve_until(deadline_at, *took, legs_after, options),
+        // What this leg took to its first plan (bounds, networks' distances, the
+        // plan itself, less any head start), as the measure of what a later leg needs.
+        Some(_) => {
+            let setup = started.elapsed().saturating_sub(head_start_used);
+            improve_until(deadline_at, setup, legs_after, options)
+        }
         None => deadline_at,
     };
     let improve_options = PlanOptions {
@@ -160,11 +170,13 @@ fn head_start(space: &Space, cells: &[GroupCells], bound: u32, options: &PlanOpt
     (options.deadline / 4).min(Duration::from_secs(5))
 }
 
-/// Until when the exact search may try to beat a first plan that took `first`:
-/// the deadline when optimality is required (a leg not proven optimal fails the
-/// flight anyway), else the deadline less three times `first` for each of the
-/// `legs_after` legs still to plan, which they keep for their own first plans
-/// (a leg's is about as costly as the next's: the same drones in the same world).
+/// Until when the exact search may try to beat a first plan reached after `first`
+/// of the leg's own work: the deadline when optimality is required (a leg not
+/// proven optimal fails the flight anyway). Else the legs still to plan keep
+/// three times `first` each for their own first plans (a leg's is about as
+/// costly as the next's: the same drones in the same world), and what is left
+/// is shared evenly between this leg and them: a leg whose exact search cannot
+/// finish (10,000 drones taking off, each its own group) does not starve the rest.
 fn improve_until(
     deadline_at: Instant,
     first: Duration,
@@ -175,9 +187,11 @@ fn improve_until(
         return deadline_at;
     }
     let reserve = first.saturating_mul(3 * legs_after as u32);
-    deadline_at
-        .checked_sub(reserve)
-        .unwrap_or_else(Instant::now)
+    let now = Instant::now();
+    let spare = deadline_at
+        .saturating_duration_since(now)
+        .saturating_sub(reserve);
+    now + spare / (legs_after as u32 + 1)
 }
 
 /// The first plan ([`first_plan`]) within the deadline (half of it when optimality
@@ -185,8 +199,7 @@ fn improve_until(
 /// enough for any instance a first plan is good for; with the time it took.
 fn first_plan_within(
     space: &Space,
-    cells: &[GroupCells],
-    lower_bounds: &[u32],
+    (cells, lower_bounds, assigned): (&[GroupCells], &[u32], &[Vec<u32>]),
     (started, options): (Instant, &PlanOptions),
     progress: &mut dyn FnMut(&Progress),
 ) -> Option<(FirstPlan, Duration)> {
@@ -218,26 +231,37 @@ fn first_plan_within(
             });
         }
     };
-    let mut found = first_plan(
-        space,
-        cells,
-        lower_bounds,
-        (max_steps, until),
-        options.seed,
-        &mut on_step,
-    )?;
-    if !found.complete {
+    // PIBT is cheap next to the exact search: a stall it cannot finish gets
+    // another try with other ties (seeds after the caller's, so deterministic).
+    for attempt in 0..FIRST_PLAN_ATTEMPTS {
+        let seed = options.seed.wrapping_add(attempt);
+        let stepping = (max_steps, until);
+        let found = first_plan(space, cells, assigned, stepping, seed, &mut on_step)?;
+        if found.complete {
+            return Some((found, began.elapsed()));
+        }
         // The rest is small, or the exact search would not finish it soon either:
         // ten times what PIBT took (at least 50 ms), at most a quarter of what is
-        // left, so the search from the start keeps the rest.
+        // left when optimality is required (the search from the start keeps the
+        // rest), else half: without it there may be no plan at all.
         let left = until.saturating_duration_since(Instant::now());
+        let share = if options.require_optimal {
+            left / 4
+        } else {
+            left / 2
+        };
         let budget = (began.elapsed() * 10)
             .max(Duration::from_millis(50))
-            .min(left / 4);
-        found = finish(space, cells, found, Instant::now() + budget, options)?;
+            .min(share);
+        if let Some(done) = finish(space, cells, found, Instant::now() + budget, options) {
+            return Some((done, began.elapsed()));
+        }
     }
-    Some((found, began.elapsed()))
+    None
 }
+
+/// PIBT runs (each with its exact finish) before a leg goes without a first plan.
+const FIRST_PLAN_ATTEMPTS: u64 = 3;
 
 /// A stalled first plan finished by the exact search from where it stalled (see
 /// `FirstPlan::complete`): by then most drones are on their goals, so the rest is

@@ -1,6 +1,6 @@
 //! A makespan lower bound that ignores collisions between drones.
 
-use super::matching::maximum_matching;
+use super::matching::{matched, maximum_matching};
 use crate::mission::Mission;
 use crate::world::{UNREACHABLE, Voxel, VoxelGrid};
 use std::collections::VecDeque;
@@ -52,7 +52,23 @@ pub fn makespan_lower_bound(mission: &Mission) -> Option<u32> {
 /// Thousands of goals thus cost thousands of small balls, not thousands of searches
 /// of the whole world.
 pub fn group_lower_bound(world: &VoxelGrid, starts: &[Voxel], goals: &[Voxel]) -> Option<u32> {
+    bottleneck_assignment(world, starts, goals).map(|(steps, _)| steps)
+}
+
+/// The bottleneck value of [`group_lower_bound`] with an assignment that attains
+/// it: for each drone (in `starts` order) a distinct goal at most that many moves
+/// away, each drone matched to its nearer goals where it can. The first plan
+/// starts from it; `None` as for the bound, or if a start lies outside `world`.
+pub(crate) fn bottleneck_assignment(
+    world: &VoxelGrid,
+    starts: &[Voxel],
+    goals: &[Voxel],
+) -> Option<(u32, Vec<Voxel>)> {
+    let start_count = starts.len();
     let starts: Vec<usize> = starts.iter().filter_map(|&v| world.cell(v)).collect();
+    if starts.len() != start_count {
+        return None;
+    }
     let goals: Vec<usize> = goals
         .iter()
         .filter_map(|&g| world.cell(g))
@@ -84,19 +100,34 @@ pub fn group_lower_bound(world: &VoxelGrid, starts: &[Voxel], goals: &[Voxel]) -
         let mut thresholds: Vec<u32> = near.iter().flatten().map(|&(_, d)| d).collect();
         thresholds.sort_unstable();
         thresholds.dedup();
-        let perfect_within = |t: u32| {
-            let mut adjacency = vec![Vec::new(); starts.len()];
+        // Each drone's goals within `t` (nearest first when `nearest_first`).
+        let adjacency_within = |t: u32, nearest_first: bool| {
+            let mut adjacency: Vec<Vec<(u32, usize)>> = vec![Vec::new(); starts.len()];
             for (g, found) in near.iter().enumerate() {
-                for &(d, _) in found.iter().filter(|&&(_, dist)| dist <= t) {
-                    adjacency[d as usize].push(g);
+                for &(d, dist) in found.iter().filter(|&&(_, dist)| dist <= t) {
+                    adjacency[d as usize].push((dist, g));
                 }
             }
-            maximum_matching(&adjacency, goals.len()) == starts.len()
+            adjacency
+                .into_iter()
+                .map(|mut a| {
+                    if nearest_first {
+                        a.sort_unstable();
+                    }
+                    a.into_iter().map(|(_, g)| g).collect::<Vec<usize>>()
+                })
+                .collect::<Vec<_>>()
         };
+        let perfect_within =
+            |t: u32| maximum_matching(&adjacency_within(t, false), goals.len()) == starts.len();
         // Smallest threshold with a perfect matching (matchability is monotone in t).
         let index = thresholds.partition_point(|&t| !perfect_within(t));
         if let Some(&t) = thresholds.get(index) {
-            return Some(t);
+            let assigned: Option<Vec<Voxel>> = matched(&adjacency_within(t, true), goals.len())
+                .into_iter()
+                .map(|g| g.map(|g| world.voxel(goals[g])))
+                .collect();
+            return Some((t, assigned?));
         }
         if !cut_short {
             return None; // every goal's whole component was searched

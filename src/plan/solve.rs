@@ -4,7 +4,7 @@
 use super::anytime::plan_anytime;
 use super::discrete_plan::{DiscretePlan, DronePlan, PlanLeg};
 use super::error::PlanError;
-use super::lower_bound::group_lower_bound;
+use super::lower_bound::bottleneck_assignment;
 use super::network::GroupCells;
 use super::options::PlanOptions;
 use super::space::Space;
@@ -337,6 +337,7 @@ fn solve_in_space(
     }
     let mut cells = Vec::with_capacity(groups.len());
     let mut lower_bounds = Vec::with_capacity(groups.len());
+    let mut assigned = Vec::with_capacity(groups.len());
     let mut throttle = Throttle::new();
     for (gi, g) in groups.iter().enumerate() {
         if throttle.due() {
@@ -360,12 +361,16 @@ fn solve_in_space(
         let (Some(starts), Some(goals)) = (starts, goals) else {
             return Err(unreachable());
         };
-        let lb = group_lower_bound(grid, &g.starts, free_goals).ok_or_else(unreachable)?;
+        let (lb, first_goals) =
+            bottleneck_assignment(grid, &g.starts, free_goals).ok_or_else(unreachable)?;
+        let first_goals: Option<Vec<u32>> = first_goals.iter().map(|&v| compact(v)).collect();
         lower_bounds.push(lb);
+        assigned.push(first_goals.ok_or_else(unreachable)?);
         cells.push(GroupCells::new(space, starts, &goals));
     }
     let legs = (options, legs_after);
-    let routed = plan_anytime(space, (&cells, &lower_bounds), legs, started, progress)?;
+    let groups = (&cells[..], &lower_bounds[..], &assigned[..]);
+    let routed = plan_anytime(space, groups, legs, started, progress)?;
     let (paths, makespan) = (&routed.paths, routed.makespan);
     Ok(tapf_solution(
         grid,

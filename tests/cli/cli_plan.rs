@@ -277,3 +277,49 @@ fn fly_refuses_a_broken_plan_before_starting_anything() {
         assert!(!log.exists(), "a flight log was written");
     }
 }
+
+/// The plan says how good it is: each leg's line and the flight's state the bound
+/// proven against the makespan, and the plan file keeps it per leg. With time
+/// enough the paper-scale mission is optimal leg by leg; `--optimal` demands it
+/// and, on a deadline far too short, fails naming the bound instead of
+/// returning a plan above it.
+#[test]
+fn plan_states_its_bound_and_gap() {
+    let mission = repo("missions/paper-scale.yaml");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("plan.json");
+    let run = swarmctl()
+        .arg("plan")
+        .arg(&mission)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert!(run.status.success());
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    let legs: Vec<&str> = stdout.lines().filter(|l| l.starts_with("  leg ")).collect();
+    assert_eq!(legs.len(), 3, "{stdout}");
+    for line in &legs {
+        assert!(line.contains("optimal by"), "{line}");
+    }
+    let plan: DiscretePlan =
+        serde_json::from_str(&std::fs::read_to_string(&out).expect("written")).expect("plan");
+    for leg in &plan.legs {
+        assert_eq!(
+            leg.proven_bound_steps,
+            Some(leg.makespan_steps),
+            "{}",
+            leg.name
+        );
+        assert_eq!(leg.gap_steps(), 0);
+    }
+    let demanding = swarmctl()
+        .arg("plan")
+        .arg(&mission)
+        .args(["--optimal", "--deadline", "0.000001"])
+        .output()
+        .expect("runs");
+    assert!(!demanding.status.success());
+    let stderr = String::from_utf8_lossy(&demanding.stderr);
+    assert!(stderr.contains("optimal makespan is at least"), "{stderr}");
+}

@@ -1,72 +1,152 @@
-//! Distances to one goal at a time, for drones that each head for their own.
+//! Distances to one goal at a time, searched only as far as they are asked for.
 
 use crate::plan::space::Space;
-use std::collections::VecDeque;
+use std::collections::{HashMap, VecDeque};
+use std::hash::{BuildHasherDefault, Hasher};
 
 /// No way to the goal.
 pub(crate) const FAR: u16 = u16::MAX;
 
-/// One breadth-first table per goal cell, made the first time the goal is asked
-/// about and kept: drones trade goals within their group as they go, so any goal
-/// of the group may be asked about from anywhere along the way.
-///
-/// Two bytes a cell and goal: 40×40×10 with 1,000 goals is 32 MB. Callers bound
-/// `goals × cells` with [`GoalDistances::bytes_for`] before they start.
+/// Cells known, summed over goals, past which the tables give up (about 2 GB):
+/// the first plan then declines and the exact search plans alone.
+const MAX_ENTRIES: usize = 200_000_000;
+
+/// One breadth-first search per goal, run lazily: a question about a cell the
+/// search has not reached resumes it until it has (LaCAM's lazy distance table).
+/// A drone's questions are about the cells around it, which lie about as far from
+/// its goal as it is, so each goal's search covers the ball out to its drone, not
+/// the world: 5,000 goals in a 100×100×20 world would need 2 GB as whole tables.
+/// Drones trade goals within their group as they go, so a search may be resumed
+/// from another drone's side.
 pub(crate) struct GoalDistances<'a> {
     space: &'a Space,
-    /// Per cell: the index of its table in `tables`, or `u32::MAX` if not made yet.
-    table_of: Vec<u32>,
-    tables: Vec<Box<[u16]>>,
-    queue: VecDeque<u32>,
+    /// Per cell: the index of its goal's search in `searches`, if begun.
+    search_of: Vec<u32>,
+    searches: Vec<Search>,
+    /// Cells known, over every search.
+    entries: usize,
+}
+
+/// One goal's breadth-first search, paused: every cell found has its exact
+/// distance; `frontier` holds the found cells not yet expanded, nearest first.
+struct Search {
+    distance: HashMap<u32, u16, CellHash>,
+    frontier: VecDeque<(u32, u16)>,
 }
 
 impl<'a> GoalDistances<'a> {
     pub(crate) fn new(space: &'a Space) -> Self {
         Self {
             space,
-            table_of: vec![u32::MAX; space.len()],
-            tables: Vec::new(),
-            queue: VecDeque::new(),
+            search_of: vec![u32::MAX; space.len()],
+            searches: Vec::new(),
+            entries: 0,
         }
     }
 
-    /// What tables for `goals` distinct goals take in `space`, bytes.
-    pub(crate) fn bytes_for(space: &Space, goals: usize) -> usize {
-        goals.saturating_mul(space.len()).saturating_mul(2)
+    /// Whether the searches have grown past their budget (see [`MAX_ENTRIES`]).
+    pub(crate) fn exhausted(&self) -> bool {
+        self.entries > MAX_ENTRIES
     }
 
     /// Moves from `cell` to `goal` (other drones ignored), [`FAR`] if walled off.
-    #[inline]
     pub(crate) fn get(&mut self, goal: u32, cell: u32) -> u16 {
-        self.table(goal)[cell as usize]
-    }
-
-    /// The whole table of `goal`.
-    pub(crate) fn table(&mut self, goal: u32) -> &[u16] {
-        let mut index = self.table_of[goal as usize];
+        let mut index = self.search_of[goal as usize];
         if index == u32::MAX {
-            index = self.tables.len() as u32;
-            let table = self.search(goal);
-            self.tables.push(table);
-            self.table_of[goal as usize] = index;
+            index = self.searches.len() as u32;
+            let mut distance = HashMap::default();
+            distance.insert(goal, 0);
+            self.searches.push(Search {
+                distance,
+                frontier: VecDeque::from([(goal, 0)]),
+            });
+            self.search_of[goal as usize] = index;
+            self.entries += 1;
         }
-        &self.tables[index as usize]
-    }
-
-    fn search(&mut self, goal: u32) -> Box<[u16]> {
-        let mut dist = vec![FAR; self.space.len()].into_boxed_slice();
-        dist[goal as usize] = 0;
-        self.queue.clear();
-        self.queue.push_back(goal);
-        while let Some(c) = self.queue.pop_front() {
-            let next = dist[c as usize].saturating_add(1).min(FAR - 1);
+        let search = &mut self.searches[index as usize];
+        if let Some(&d) = search.distance.get(&cell) {
+            return d;
+        }
+        let mut found = FAR;
+        while found == FAR {
+            let Some((c, d)) = search.frontier.pop_front() else {
+                break;
+            };
+            let next = d.saturating_add(1).min(FAR - 1);
             for &m in &self.space.moves(c)[1..] {
-                if dist[m as usize] == FAR {
-                    dist[m as usize] = next;
-                    self.queue.push_back(m);
+                if let std::collections::hash_map::Entry::Vacant(e) = search.distance.entry(m) {
+                    e.insert(next);
+                    search.frontier.push_back((m, next));
+                    self.entries += 1;
+                    if m == cell {
+                        found = next;
+                    }
                 }
             }
         }
-        dist
+        found
+    }
+}
+
+/// A multiply-and-rotate hash (FxHash's) for cell indices: the standard
+/// library's SipHash would cost more than the searches themselves.
+type CellHash = BuildHasherDefault<CellHasher>;
+
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u32(&mut self, n: u32) {
+        self.write_u64(u64::from(n));
+    }
+
+    fn write_u64(&mut self, n: u64) {
+        self.0 = (self.0.rotate_left(5) ^ n).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::{Voxel, VoxelGrid};
+
+    /// Asked in any order, the lazy searches give exactly the whole-world
+    /// breadth-first distances, walls and walled-off pockets included.
+    #[test]
+    fn lazy_distances_equal_whole_searches() {
+        let mut world = VoxelGrid::new([7, 5, 3], 1.0, [0.0; 3]);
+        for (i, v) in (0..7)
+            .flat_map(|x| (0..5).map(move |y| Voxel::new(x, y, 1)))
+            .enumerate()
+        {
+            if i % 3 != 0 {
+                world.block(v);
+            }
+        }
+        world.block(Voxel::new(6, 4, 2));
+        let space = Space::new(&world, 3);
+        let mut lazy = GoalDistances::new(&space);
+        for goal in [0u32, 17, space.len() as u32 - 1] {
+            let whole = space.distances(&[goal]);
+            // Far cells first, then near ones: resumed and already-known answers.
+            for cell in (0..space.len() as u32).rev().chain(0..space.len() as u32) {
+                let expected = match whole[cell as usize] {
+                    crate::plan::space::NONE => FAR,
+                    d => d as u16,
+                };
+                assert_eq!(lazy.get(goal, cell), expected, "goal {goal} cell {cell}");
+            }
+        }
+        assert!(!lazy.exhausted());
     }
 }

@@ -1,8 +1,8 @@
 //! A valid plan fast, not necessarily of least makespan: the incumbent the exact
 //! search then has to beat.
 //!
-//! Each group's drones get distinct goals by a bottleneck assignment
-//! ([`assignment`]), then every drone steps towards its goal with PIBT ([`pibt`]),
+//! Each group's drones start out for distinct goals of a bottleneck assignment
+//! (the lower bound's), then every drone steps towards its goal with PIBT ([`pibt`]),
 //! trading goals within its group when it runs into a drone of the group parked
 //! on its own goal, or when two of them want each other's cells (TSWAP's rule,
 //! Okumura & Défago, AIJ 2023): the group reaches its goals as a set, whoever
@@ -14,20 +14,14 @@
 //! then. Past its step budget or deadline there is no first plan (the exact
 //! search answers alone).
 
-mod assignment;
 mod goal_distances;
 mod pibt;
 
 use super::network::GroupCells;
 use super::space::{NONE, Space};
-use assignment::bottleneck_assignment;
 use goal_distances::GoalDistances;
 use pibt::Pibt;
 use std::time::Instant;
-
-/// Distance tables this method may hold, bytes: past this (about 2,700 goals in a
-/// 100×100×20 world) it declines and the exact search plans alone.
-const TABLES_BUDGET_BYTES: usize = 1 << 30;
 
 /// A first plan: per group, per drone (in start order), its cell at every step.
 #[derive(Debug, Clone)]
@@ -52,33 +46,29 @@ pub(crate) struct Stepping {
     pub drones: usize,
 }
 
-/// A first plan for `groups` in `space`, or `None` when none was found within
-/// `max_steps` steps or by `deadline_at`, or the distance tables would pass their
-/// budget. `lower_bounds` are the groups' bottleneck bounds; `seed` breaks ties.
+/// A first plan for `groups` in `space`, each drone heading first for its goal in
+/// `assigned` (per group, per drone: a bottleneck assignment), or `None` when none
+/// was found within `max_steps` steps or by `deadline_at`, or the distance
+/// searches passed their budget. `seed` breaks ties.
 pub(crate) fn first_plan(
     space: &Space,
     groups: &[GroupCells],
-    lower_bounds: &[u32],
+    assigned: &[Vec<u32>],
     (max_steps, deadline_at): (u32, Instant),
     seed: u64,
     on_step: &mut dyn FnMut(Stepping),
 ) -> Option<FirstPlan> {
-    let goal_count: usize = groups.iter().map(|g| g.goals.len()).sum();
-    if GoalDistances::bytes_for(space, goal_count) > TABLES_BUDGET_BYTES {
-        return None;
-    }
     let mut distances = GoalDistances::new(space);
     let mut group_of = Vec::new();
     let mut at = Vec::new();
     let mut goal = Vec::new();
-    for (g, (cells, &bound)) in groups.iter().zip(lower_bounds).enumerate() {
-        let assigned = bottleneck_assignment(&mut distances, &cells.starts, &cells.goals, bound)?;
+    for (g, (cells, goals)) in groups.iter().zip(assigned).enumerate() {
         group_of.extend(std::iter::repeat_n(g as u32, cells.starts.len()));
         at.extend_from_slice(&cells.starts);
-        goal.extend(assigned);
-        if Instant::now() >= deadline_at {
-            return None;
-        }
+        goal.extend_from_slice(goals);
+    }
+    if goal.len() != at.len() {
+        return None;
     }
     let drones = at.len();
     let hash = |d: u32, c: u32, step: u32| {
@@ -122,7 +112,7 @@ pub(crate) fn first_plan(
                 complete: false,
             });
         }
-        if step == max_steps || Instant::now() >= deadline_at {
+        if step == max_steps || Instant::now() >= deadline_at || distances.exhausted() {
             return None;
         }
         for (d, &c) in at.iter().enumerate() {
