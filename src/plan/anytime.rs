@@ -21,16 +21,29 @@ pub(super) struct Routed {
     pub stats: PlanStats,
 }
 
+/// How much work a leg gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Effort {
+    /// The exact search's head start (none on a big leg), then its first plan
+    /// and no more (the exact search only where no first plan is found): a
+    /// whole flight's first answer, fast.
+    FirstPlan,
+    /// The same, then the exact search to beat the first plan until
+    /// [`improve_until`].
+    Improve,
+}
+
 /// Plans one leg's groups (`cells`, with their bottleneck `lower_bounds` and
 /// assignments `assigned`, per group, per drone, a goal) anytime:
-/// a first plan, returned at once if it meets the bound; else the exact search
-/// for a better one, capped below the first plan's makespan, until
-/// [`improve_until`]. Past that, the first plan with the bound proven so far, or
-/// (with `require_optimal`) the deadline error. The search started at `started`.
+/// a first plan, returned at once if it meets the bound (or if `effort` asks for
+/// no more); else the exact search for a better one, capped below the first
+/// plan's makespan, until [`improve_until`]. Past that, the first plan with the
+/// bound proven so far, or (with `require_optimal`) the deadline error. The
+/// search started at `started`.
 pub(super) fn plan_anytime(
     space: &Space,
     (cells, lower_bounds, assigned): (&[GroupCells], &[u32], &[Vec<u32>]),
-    (options, legs_after): (&PlanOptions, usize),
+    (options, legs_after, effort): (&PlanOptions, usize, Effort),
     started: Instant,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Routed, PlanError> {
@@ -90,6 +103,7 @@ pub(super) fn plan_anytime(
             stats.best_lower_bound_steps = first.makespan;
             return Ok(answer(first, stats));
         }
+        Some((first, _)) if effort == Effort::FirstPlan => return Ok(answer(first, stats)),
         other => other,
     };
     // With a first plan in hand, the exact search only has to find a better one:

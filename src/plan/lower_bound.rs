@@ -1,8 +1,9 @@
 //! A makespan lower bound that ignores collisions between drones.
 
 use super::matching::{matched, maximum_matching};
+use super::space::{NONE, Space};
 use crate::mission::Mission;
-use crate::world::{UNREACHABLE, Voxel, VoxelGrid};
+use crate::world::{Voxel, VoxelGrid};
 use std::collections::VecDeque;
 
 /// The least makespan the first formation (starts to goals) can have, in steps:
@@ -57,43 +58,58 @@ pub fn group_lower_bound(world: &VoxelGrid, starts: &[Voxel], goals: &[Voxel]) -
 
 /// The bottleneck value of [`group_lower_bound`] with an assignment that attains
 /// it: for each drone (in `starts` order) a distinct goal at most that many moves
-/// away, each drone matched to its nearer goals where it can. The first plan
-/// starts from it; `None` as for the bound, or if a start lies outside `world`.
+/// away, each drone matched to its nearer goals where it can. `None` as for the
+/// bound, or if a start lies outside `world` or in an obstacle.
 pub(crate) fn bottleneck_assignment(
     world: &VoxelGrid,
     starts: &[Voxel],
     goals: &[Voxel],
 ) -> Option<(u32, Vec<Voxel>)> {
-    let start_count = starts.len();
-    let starts: Vec<usize> = starts.iter().filter_map(|&v| world.cell(v)).collect();
-    if starts.len() != start_count {
-        return None;
-    }
-    let goals: Vec<usize> = goals
-        .iter()
-        .filter_map(|&g| world.cell(g))
-        .filter(|&g| world.is_free_cell(g))
+    let space = Space::new(world, 0);
+    let compact = |v: Voxel| {
+        world
+            .cell(v)
+            .map(|c| space.compact(c))
+            .filter(|&c| c != NONE)
+    };
+    let starts: Option<Vec<u32>> = starts.iter().map(|&v| compact(v)).collect();
+    let goals: Vec<u32> = goals.iter().filter_map(|&g| compact(g)).collect();
+    let (steps, assigned) = bottleneck_assignment_in(&space, &starts?, &goals)?;
+    let voxels = assigned
+        .into_iter()
+        .map(|c| world.voxel(space.world_cell(c)))
         .collect();
+    Some((steps, voxels))
+}
+
+/// [`bottleneck_assignment`] on the compact free cells of `space`: drones at
+/// `starts`, free `goals`, the assignment in compact cells. The first plan
+/// starts from it.
+pub(crate) fn bottleneck_assignment_in(
+    space: &Space,
+    starts: &[u32],
+    goals: &[u32],
+) -> Option<(u32, Vec<u32>)> {
     if starts.is_empty() {
         return None;
     }
-    let to_goal = world.distances_from_any(&goals);
+    let to_goal = space.distances(goals);
     let floor = starts
         .iter()
-        .map(|&s| to_goal[s])
-        .try_fold(0, |acc, d| (d != UNREACHABLE).then_some(acc.max(d)))?;
-    let mut drone_at = vec![u32::MAX; world.len()];
+        .map(|&s| to_goal[s as usize])
+        .try_fold(0, |acc, d| (d != NONE).then_some(acc.max(d)))?;
+    let mut drone_at = vec![NONE; space.len()];
     for (d, &s) in starts.iter().enumerate() {
-        drone_at[s] = d as u32;
+        drone_at[s as usize] = d as u32;
     }
-    let mut balls = Balls::new(world.len());
+    let mut balls = Balls::new(space.len());
     let mut radius = floor + 2;
     loop {
         // near[goal]: (drone, distance) for every drone within `radius` of it.
         let mut near = Vec::with_capacity(goals.len());
         let mut cut_short = false;
-        for &g in &goals {
-            let (found, truncated) = balls.search(world, g, radius, &drone_at);
+        for &g in goals {
+            let (found, truncated) = balls.search(space, g, radius, (&drone_at, starts.len()));
             cut_short |= truncated;
             near.push(found);
         }
@@ -123,9 +139,9 @@ pub(crate) fn bottleneck_assignment(
         // Smallest threshold with a perfect matching (matchability is monotone in t).
         let index = thresholds.partition_point(|&t| !perfect_within(t));
         if let Some(&t) = thresholds.get(index) {
-            let assigned: Option<Vec<Voxel>> = matched(&adjacency_within(t, true), goals.len())
+            let assigned: Option<Vec<u32>> = matched(&adjacency_within(t, true), goals.len())
                 .into_iter()
-                .map(|g| g.map(|g| world.voxel(goals[g])))
+                .map(|g| g.map(|g| goals[g]))
                 .collect();
             return Some((t, assigned?));
         }
@@ -140,55 +156,61 @@ pub(crate) fn bottleneck_assignment(
 /// only its ball, and clearing costs the ball, not the world.
 struct Balls {
     dist: Vec<u32>,
-    touched: Vec<usize>,
-    queue: VecDeque<usize>,
+    touched: Vec<u32>,
+    queue: VecDeque<u32>,
 }
 
 impl Balls {
     fn new(cells: usize) -> Self {
         Self {
-            dist: vec![UNREACHABLE; cells],
+            dist: vec![NONE; cells],
             touched: Vec::new(),
             queue: VecDeque::new(),
         }
     }
 
-    /// The drones (`drone_at[cell]`) within `radius` moves of `from`, with their
-    /// distances, and whether cells lay beyond the radius.
+    /// The drones (`drone_at[cell]`, `drones` of them in all) within `radius`
+    /// moves of `from`, with their distances, and whether cells lay beyond the
+    /// radius. Stops once every drone is found: farther cells add nothing.
     fn search(
         &mut self,
-        world: &VoxelGrid,
-        from: usize,
+        space: &Space,
+        from: u32,
         radius: u32,
-        drone_at: &[u32],
+        (drone_at, drones): (&[u32], usize),
     ) -> (Vec<(u32, u32)>, bool) {
         let mut found = Vec::new();
         let mut truncated = false;
-        self.dist[from] = 0;
+        self.dist[from as usize] = 0;
         self.touched.push(from);
         self.queue.push_back(from);
         while let Some(c) = self.queue.pop_front() {
-            let here = self.dist[c];
-            if drone_at[c] != u32::MAX {
-                found.push((drone_at[c], here));
+            let here = self.dist[c as usize];
+            if drone_at[c as usize] != NONE {
+                found.push((drone_at[c as usize], here));
+                if found.len() == drones {
+                    truncated = false;
+                    break;
+                }
             }
-            for n in world.neighbours(c) {
-                if self.dist[n] != UNREACHABLE {
+            for &n in &space.moves(c)[1..] {
+                if self.dist[n as usize] != NONE {
                     continue;
                 }
                 if here == radius {
                     truncated = true;
                     continue;
                 }
-                self.dist[n] = here + 1;
+                self.dist[n as usize] = here + 1;
                 self.touched.push(n);
                 self.queue.push_back(n);
             }
         }
         for &c in &self.touched {
-            self.dist[c] = UNREACHABLE;
+            self.dist[c as usize] = NONE;
         }
         self.touched.clear();
+        self.queue.clear();
         (found, truncated)
     }
 }
@@ -196,6 +218,7 @@ impl Balls {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::world::UNREACHABLE;
     use proptest::prelude::*;
 
     /// The definition, searched the slow way: whole-world distances from every goal,

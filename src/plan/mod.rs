@@ -27,6 +27,7 @@ mod discrete_plan;
 mod error;
 mod feasibility;
 mod first_plan;
+mod flight;
 mod low_level;
 mod lower_bound;
 mod matching;

@@ -21,12 +21,17 @@ pub struct PlanOptions {
     /// a leg whose exact search is still running at the deadline keeps its first
     /// plan, and the plan states its gap to the best lower bound proven.
     pub require_optimal: bool,
+    /// Time the caller needs after planning for every drone and step of the plan
+    /// (to schedule and check it), kept out of `deadline`: the planner stops
+    /// improving early enough that planning and that work together end by the
+    /// deadline. Zero: the deadline is the planner's alone.
+    pub reserve_per_drone_step: Duration,
 }
 
 impl Default for PlanOptions {
     /// A minute of search, seed 0, the SAT encoding after 256 conflict-tree nodes,
-    /// a first plan, the best plan by the deadline: enough for the bundled
-    /// missions, deterministic.
+    /// a first plan, the best plan by the deadline, nothing reserved after it:
+    /// enough for the bundled missions, deterministic.
     fn default() -> Self {
         Self {
             deadline: Duration::from_secs(60),
@@ -34,6 +39,7 @@ impl Default for PlanOptions {
             exact_after_ct_nodes: Some(256),
             first_plan: true,
             require_optimal: false,
+            reserve_per_drone_step: Duration::ZERO,
         }
     }
 }

@@ -40,8 +40,9 @@
 
 use super::discrete_plan::DiscretePlan;
 use super::error::PlanError;
+use super::flight::solve_from;
 use super::options::PlanOptions;
-use super::solve::{Solution, solve_from};
+use super::solve::Solution;
 use super::stats::Progress;
 use crate::mission::Mission;
 use crate::world::Voxel;

@@ -1,13 +1,13 @@
 //! The planner's entry points: a whole flight leg by leg ([`solve`]), or one TAPF
 //! instance on any grid ([`solve_tapf`]), with the search's figures.
 
-use super::anytime::plan_anytime;
-use super::discrete_plan::{DiscretePlan, DronePlan, PlanLeg};
+use super::anytime::{Effort, plan_anytime};
+use super::discrete_plan::DiscretePlan;
 use super::error::PlanError;
-use super::lower_bound::bottleneck_assignment;
+use super::lower_bound::bottleneck_assignment_in;
 use super::network::GroupCells;
 use super::options::PlanOptions;
-use super::space::Space;
+use super::space::{NONE, Space};
 use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
 use crate::mission::{Mission, Targets, contested};
 use crate::world::{Voxel, VoxelGrid};
@@ -81,128 +81,16 @@ pub fn solve_with_progress(
         .iter()
         .map(|g| g.drones.iter().map(|d| d.pad_voxel()).collect())
         .collect();
-    solve_from(mission, 0, pads, options, progress)
-}
-
-/// Plans `mission`'s legs from `from_leg` on (an index into `Mission::legs`), every
-/// drone starting where `at` puts it (per group, per drone, in mission order), as
-/// [`solve_with_progress`] plans them from the pads: the rest of a flight after a
-/// replan (see `replan`). Paths start at `at`; the plan's legs are the legs planned.
-pub(super) fn solve_from(
-    mission: &Mission,
-    from_leg: usize,
-    mut at: Vec<Vec<Voxel>>,
-    options: &PlanOptions,
-    progress: &mut dyn FnMut(&Progress),
-) -> Result<Solution, PlanError> {
-    let started = Instant::now();
-    let airspace = &mission.airspace;
-    let space = Space::with_reach(
-        airspace,
-        options.seed,
-        mission.limits.vertical_reach(airspace),
-    );
-    // Legs that keep out of the pad layer (formations of an imported instance) are
-    // planned in the world's own voxels: the airspace with the pad layer blocked.
-    let mut world_only: Option<(VoxelGrid, Space)> = None;
-    let mut paths: Vec<Vec<Vec<Voxel>>> = at
-        .iter()
-        .map(|g| g.iter().map(|&v| vec![v]).collect())
-        .collect();
-    let mut stats = PlanStats::default();
-    let mut legs = Vec::new();
-    let flight_legs = mission.legs();
-    let leg_count = flight_legs.len();
-    for (k, leg) in flight_legs.into_iter().enumerate().skip(from_leg) {
-        let (tapf, owners) = leg_instance(&leg.targets, &at)?;
-        let remaining = options.deadline.saturating_sub(started.elapsed());
-        let leg_options = PlanOptions {
-            deadline: remaining,
-            ..options.clone()
-        };
-        let legs_after = leg_count - k - 1;
-        let mut in_leg = |p: &Progress| {
-            progress(&Progress {
-                leg: leg.name.clone(),
-                ..p.clone()
-            });
-        };
-        let (grid, space) = if leg.pad_layer_open {
-            (airspace, &space)
-        } else {
-            let (grid, space) = world_only.get_or_insert_with(|| {
-                let grid = airspace.without_pad_layer();
-                let reach = mission.limits.vertical_reach(&grid);
-                let space = Space::with_reach(&grid, options.seed, reach);
-                (grid, space)
-            });
-            (&*grid, &*space)
-        };
-        let solved = solve_in_space(grid, space, &tapf, (&leg_options, legs_after), &mut in_leg)
-            .map_err(|e| PlanError::Leg {
-                leg: leg.name.clone(),
-                reason: Box::new(named(e, mission, &owners)),
-            })?;
-        for ((gi, di), group_paths) in owners.iter().zip(&solved.paths) {
-            let drones: Vec<usize> = match di {
-                Some(di) => vec![*di],
-                None => (0..at[*gi].len()).collect(),
-            };
-            for (&d, p) in drones.iter().zip(group_paths) {
-                paths[*gi][d].extend(p.iter().skip(1).copied());
-                at[*gi][d] = *p.last().unwrap_or(&at[*gi][d]);
-            }
-        }
-        let end_step = legs.last().map_or(0, |l: &PlanLeg| l.end_step) + solved.makespan_steps;
-        legs.push(PlanLeg {
-            name: leg.name.clone(),
-            kind: leg.kind,
-            end_step,
-            hold_s: leg.hold_s,
-            makespan_steps: solved.makespan_steps,
-            lower_bound_steps: solved.stats.initial_lower_bound_steps,
-            proven_bound_steps: Some(solved.stats.best_lower_bound_steps),
-        });
-        stats.add_leg(&leg.name, &solved.stats, solved.makespan_steps);
-    }
-    let makespan = legs.last().map_or(0, |l| l.end_step);
-    let mut drones = Vec::with_capacity(mission.drone_count());
-    let mut sum_of_costs = 0;
-    for (g, group_paths) in mission.groups.iter().zip(paths) {
-        for (d, path) in g.drones.iter().zip(group_paths) {
-            let Some(&goal) = path.last() else {
-                return Err(PlanError::Internal("a drone without a path"));
-            };
-            let plan = DronePlan {
-                id: d.id.clone(),
-                group: g.name.clone(),
-                goal,
-                path,
-            };
-            sum_of_costs += u64::from(plan.arrival_step());
-            drones.push(plan);
-        }
-    }
-    debug_assert!(drones.iter().all(|d| d.path.len() == makespan as usize + 1));
-    stats.total_time = started.elapsed();
-    Ok(Solution {
-        plan: DiscretePlan {
-            makespan_steps: makespan,
-            sum_of_costs_steps: sum_of_costs,
-            drones,
-            legs,
-        },
-        stats,
-    })
+    super::flight::solve_from(mission, 0, pads, options, progress)
 }
 
 /// Which TAPF group each of a leg's groups or drones becomes: `(group, None)` for a
 /// group's shared targets, `(group, Some(drone))` for a drone's own.
-type Owners = Vec<(usize, Option<usize>)>;
+pub(super) type Owners = Vec<(usize, Option<usize>)>;
 
 /// A leg as one TAPF instance from where the drones are (`at`, per group): shared
 /// targets make one CBM group; per-drone targets one group per drone.
-fn leg_instance(
+pub(super) fn leg_instance(
     targets: &[Targets],
     at: &[Vec<Voxel>],
 ) -> Result<(Vec<TapfGroup>, Owners), PlanError> {
@@ -234,7 +122,11 @@ fn leg_instance(
 
 /// `e` with the TAPF group indices (`#i`) it names replaced by what the user wrote:
 /// `group blue` for a group's shared targets, `drone b1` for a drone's own.
-fn named(e: PlanError, mission: &Mission, owners: &[(usize, Option<usize>)]) -> PlanError {
+pub(super) fn named(
+    e: PlanError,
+    mission: &Mission,
+    owners: &[(usize, Option<usize>)],
+) -> PlanError {
     let name = |tapf: &str| {
         let owner = tapf
             .strip_prefix('#')
@@ -288,17 +180,18 @@ pub fn solve_tapf(
     options: &PlanOptions,
 ) -> Result<TapfSolution, PlanError> {
     let space = Space::new(grid, options.seed);
-    solve_in_space(grid, &space, groups, (options, 0), &mut |_| {})
+    let how = (options, 0, Effort::Improve);
+    solve_in_space(grid, &space, groups, how, &mut |_| {})
 }
 
 /// [`solve_tapf`] on a compact space built once for several instances, with
 /// `legs_after` legs of the same flight still to plan within `options.deadline`
-/// (see [`improve_until`]).
-fn solve_in_space(
+/// (see `improve_until`), with `effort`.
+pub(super) fn solve_in_space(
     grid: &VoxelGrid,
     space: &Space,
     groups: &[TapfGroup],
-    (options, legs_after): (&PlanOptions, usize),
+    (options, legs_after, effort): (&PlanOptions, usize, Effort),
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<TapfSolution, PlanError> {
     let started = Instant::now();
@@ -361,14 +254,16 @@ fn solve_in_space(
         let (Some(starts), Some(goals)) = (starts, goals) else {
             return Err(unreachable());
         };
+        if starts.contains(&NONE) || goals.contains(&NONE) {
+            return Err(unreachable());
+        }
         let (lb, first_goals) =
-            bottleneck_assignment(grid, &g.starts, free_goals).ok_or_else(unreachable)?;
-        let first_goals: Option<Vec<u32>> = first_goals.iter().map(|&v| compact(v)).collect();
+            bottleneck_assignment_in(space, &starts, &goals).ok_or_else(unreachable)?;
         lower_bounds.push(lb);
-        assigned.push(first_goals.ok_or_else(unreachable)?);
+        assigned.push(first_goals);
         cells.push(GroupCells::new(space, starts, &goals));
     }
-    let legs = (options, legs_after);
+    let legs = (options, legs_after, effort);
     let groups = (&cells[..], &lower_bounds[..], &assigned[..]);
     let routed = plan_anytime(space, groups, legs, started, progress)?;
     let (paths, makespan) = (&routed.paths, routed.makespan);

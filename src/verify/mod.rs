@@ -34,9 +34,9 @@
 //! is convex in time), and as a bound that charges each drone's chord deviation
 //! over `min(H', V')` ([`ScaledSeparation`]).
 //!
-//! **Scale.** Drones are hashed into cubes of the search radius (plus the motion within one
+//! **Scale.** Drones are sorted into cubes of the search radius (plus the motion within one
 //! interval) at each sample time and only drones in neighbouring cubes are compared: about
-//! `O(drones · samples)`, not `O(drones² · samples)`.
+//! `O(drones · log drones · samples)`, not `O(drones² · samples)`.
 
 mod differences;
 mod metric;

@@ -115,3 +115,31 @@ fn a_short_deadline_gives_a_valid_plan_with_its_gap_stated() {
         assert!(e.to_string().contains("deadline"), "{e}");
     }
 }
+
+/// A whole flight answers first with every leg's first plan, then improves with
+/// the time left: a caller that keeps back more time than there is (to schedule
+/// and check the plan) gets exactly the first answer, valid, each leg's makespan
+/// its first plan's; one that keeps nothing back, with time enough, the optimum.
+#[test]
+fn the_first_answer_is_a_whole_flight_of_first_plans_and_the_rest_improves_it() {
+    let m = show(200, 10, [20, 20, 6], 2);
+    let no_time_after = PlanOptions {
+        reserve_per_drone_step: Duration::from_secs(3600),
+        ..PlanOptions::default()
+    };
+    let first = plan::solve(&m, &no_time_after).expect("a first answer");
+    plan::validate_plan(&m, &first.plan).expect("valid");
+    for leg in &first.stats.legs {
+        assert_eq!(
+            Some(leg.makespan_steps),
+            leg.first_plan_steps,
+            "{}",
+            leg.name
+        );
+        assert_eq!(leg.ct_nodes_expanded, 0, "{}: no exact search", leg.name);
+    }
+    let improved = plan::solve(&m, &PlanOptions::default()).expect("planned");
+    plan::validate_plan(&m, &improved.plan).expect("valid");
+    assert!(improved.plan.makespan_steps <= first.plan.makespan_steps);
+    assert_eq!(improved.plan.gap_steps(), 0);
+}

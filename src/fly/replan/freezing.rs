@@ -167,6 +167,7 @@ impl Replanner {
             lost,
             options: PlanOptions {
                 deadline: self.options.deadline,
+                reserve_per_drone_step: crate::compiled::COMPILE_TIME_PER_DRONE_STEP,
                 ..PlanOptions::default()
             },
         };

@@ -42,8 +42,9 @@ pub struct Args {
     #[allow(rustdoc::invalid_html_tags)]
     #[arg(long)]
     pub(super) log: Option<PathBuf>,
-    /// Planner deadline in seconds (when no --plan is given): the best plan found
-    /// by then flies, its gap to the lower bound stated.
+    /// Planning deadline in seconds (when no --plan is given), its schedule and
+    /// check included: the best plan found by then flies, its gap to the lower
+    /// bound stated.
     #[arg(long, default_value_t = 60.0)]
     pub(super) deadline: f64,
     /// Fly only a plan proven makespan-optimal (when no --plan is given): fail at

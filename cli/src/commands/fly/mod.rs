@@ -30,6 +30,7 @@ use swarmctl_cli::status::{StatusMode, StatusView};
 use vehicles::{Backing, vehicles};
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let began = std::time::Instant::now();
     let durations = check_args(&args)?;
     // The same inputs `swarmctl plan` accepts: mission YAML or an imported instance.
     let mission = import::load_any(&args.mission, None)?;
@@ -39,7 +40,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // Composed and checked before anything starts; what flies is exactly this.
     let checked = match &args.plan {
         Some(path) => plan_source::load_plan(path, &mission)?,
-        None => plan_source::plan_now(&mission, args.deadline, args.optimal)?,
+        None => plan_source::plan_now(&mission, (args.deadline, began), args.optimal)?,
     };
     let plan = checked.discrete();
     let path = args

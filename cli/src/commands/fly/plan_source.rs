@@ -15,21 +15,15 @@ pub(super) fn load_plan(path: &Path, mission: &Mission) -> anyhow::Result<Checke
 }
 
 /// Plans the mission now, then composes and checks the plan as `swarmctl plan`
-/// does; refused, naming the violation, before anything starts.
+/// does, the whole within `deadline_s` of `began` (see `plan::deadline_options`);
+/// refused, naming the violation, before anything starts.
 /// With `optimal`, only a plan proven makespan-optimal is accepted.
 pub(super) fn plan_now(
     mission: &Mission,
-    deadline_s: f64,
+    (deadline_s, began): (f64, std::time::Instant),
     optimal: bool,
 ) -> anyhow::Result<CheckedPlan> {
-    let options = plan::PlanOptions {
-        deadline: std::time::Duration::try_from_secs_f64(deadline_s)
-            .ok()
-            .filter(|d| !d.is_zero())
-            .context("--deadline must be a positive number of seconds")?,
-        require_optimal: optimal,
-        ..plan::PlanOptions::default()
-    };
+    let options = crate::commands::plan::deadline_options(deadline_s, began, optimal)?;
     let solution = plan::solve(mission, &options).with_context(|| {
         format!(
             "planning {}{}",
