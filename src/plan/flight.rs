@@ -1,6 +1,7 @@
-//! A whole flight planned anytime, leg by leg: first every leg's first plan (an
-//! answer fast, whatever the size), then the flight again with each leg improved
-//! in turn while the deadline allows; the better flight is the answer.
+//! The planner's entry point for a whole flight ([`solve`]), planned anytime, leg
+//! by leg: first every leg's first plan (an answer fast, whatever the size), then
+//! the flight again with each leg improved in turn while the deadline allows; the
+//! better flight is the answer.
 
 use super::anytime::Effort;
 use super::discrete_plan::{DiscretePlan, DronePlan, PlanLeg};
@@ -13,9 +14,51 @@ use crate::mission::Mission;
 use crate::world::{Voxel, VoxelGrid};
 use std::time::Instant;
 
+/// Plans `mission` pad to pad (see [`solve_with_progress`]).
+///
+/// ```
+/// use swarmctl::{mission, plan};
+/// let m = mission::from_yaml("
+/// name: pass
+/// world: { dimensions: [5, 1, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
+/// limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }
+/// groups:
+///   - { name: one, drones: [{ id: r1, start: [0, 0, 0] }], goals: [[4, 0, 0]] }
+/// ", "pass.yaml".as_ref()).unwrap();
+/// let solution = plan::solve(&m, &plan::PlanOptions::default()).unwrap();
+/// // Up from the pad, along the world, down to the pad below the goal... and back:
+/// // landing is on the group's pads, here the one r1 took off from.
+/// let legs: Vec<u32> = solution.plan.legs.iter().map(|l| l.makespan_steps).collect();
+/// assert_eq!(legs, vec![1, 4, 5]);
+/// ```
+pub fn solve(mission: &Mission, options: &PlanOptions) -> Result<Solution, PlanError> {
+    solve_with_progress(mission, options, &mut |_| {})
+}
+
+/// Plans `mission` leg by leg in its airspace: takeoff from the pads, each formation,
+/// landing; every leg makespan-optimal with CBM given where the previous one left
+/// the drones, as far as the deadline allows (else the best plan found, each leg's
+/// gap to its proven bound stated; see [`solve_from`]). Deterministic for `options.seed`, except that on a leg whose conflict
+/// tree passes `options.exact_after_ct_nodes` the exact method races it and the
+/// first to finish gives the paths (the makespan, optimal either way, never
+/// changes); `progress` is called a few times a second while a conflict tree grows.
+/// The deadline covers all legs together.
+pub fn solve_with_progress(
+    mission: &Mission,
+    options: &PlanOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Solution, PlanError> {
+    let pads: Vec<Vec<Voxel>> = mission
+        .groups
+        .iter()
+        .map(|g| g.drones.iter().map(|d| d.pad_voxel()).collect())
+        .collect();
+    solve_from(mission, 0, pads, options, progress)
+}
+
 /// Plans `mission`'s legs from `from_leg` on (an index into `Mission::legs`), every
 /// drone starting where `at` puts it (per group, per drone, in mission order), as
-/// [`super::solve_with_progress`] plans them from the pads: the rest of a flight after a
+/// [`solve_with_progress`] plans them from the pads: the rest of a flight after a
 /// replan (see `replan`). Paths start at `at`; the plan's legs are the legs planned.
 ///
 /// Anytime over the whole flight: first every leg's first plan, one after the

@@ -46,10 +46,11 @@ mod validator;
 
 pub use discrete_plan::{DiscretePlan, DronePlan, PlanLeg};
 pub use error::PlanError;
+pub use flight::{solve, solve_with_progress};
 pub use lower_bound::{group_lower_bound, makespan_lower_bound};
 pub use matching::maximum_matching;
 pub use options::PlanOptions;
 pub use replan::{Replanned, replan, replan_with_progress};
-pub use solve::{Solution, TapfGroup, TapfSolution, solve, solve_tapf, solve_with_progress};
+pub use solve::{Solution, TapfGroup, TapfSolution, solve_tapf};
 pub use stats::{LegStats, PlanPhase, PlanStats, Progress};
 pub use validator::{PlanViolation, validate_plan, validate_rest};

@@ -1,5 +1,6 @@
-//! The planner's entry points: a whole flight leg by leg ([`solve`]), or one TAPF
-//! instance on any grid ([`solve_tapf`]), with the search's figures.
+//! One TAPF instance on any grid ([`solve_tapf`]), with the search's figures, and
+//! what a whole flight's legs (`flight`) need of it: a leg as a TAPF instance,
+//! solved in a compact space built once.
 
 use super::anytime::{Effort, plan_anytime};
 use super::discrete_plan::DiscretePlan;
@@ -41,47 +42,6 @@ pub struct TapfSolution {
     pub makespan_steps: u32,
     /// The search's figures.
     pub stats: PlanStats,
-}
-
-/// Plans `mission` pad to pad (see [`solve_with_progress`]).
-///
-/// ```
-/// use swarmctl::{mission, plan};
-/// let m = mission::from_yaml("
-/// name: pass
-/// world: { dimensions: [5, 1, 1], voxel_size_m: 1.0, origin_m: [0.0, 0.0, 1.5] }
-/// limits: { max_speed_mps: 1.0, max_accel_mps2: 1.0, safety_distance_m: 0.2 }
-/// groups:
-///   - { name: one, drones: [{ id: r1, start: [0, 0, 0] }], goals: [[4, 0, 0]] }
-/// ", "pass.yaml".as_ref()).unwrap();
-/// let solution = plan::solve(&m, &plan::PlanOptions::default()).unwrap();
-/// // Up from the pad, along the world, down to the pad below the goal... and back:
-/// // landing is on the group's pads, here the one r1 took off from.
-/// let legs: Vec<u32> = solution.plan.legs.iter().map(|l| l.makespan_steps).collect();
-/// assert_eq!(legs, vec![1, 4, 5]);
-/// ```
-pub fn solve(mission: &Mission, options: &PlanOptions) -> Result<Solution, PlanError> {
-    solve_with_progress(mission, options, &mut |_| {})
-}
-
-/// Plans `mission` leg by leg in its airspace: takeoff from the pads, each formation,
-/// landing; every leg makespan-optimal with CBM given where the previous one left
-/// the drones. Deterministic for `options.seed`, except that on a leg whose conflict
-/// tree passes `options.exact_after_ct_nodes` the exact method races it and the
-/// first to finish gives the paths (the makespan, optimal either way, never
-/// changes); `progress` is called a few times a second while a conflict tree grows.
-/// The deadline covers all legs together.
-pub fn solve_with_progress(
-    mission: &Mission,
-    options: &PlanOptions,
-    progress: &mut dyn FnMut(&Progress),
-) -> Result<Solution, PlanError> {
-    let pads: Vec<Vec<Voxel>> = mission
-        .groups
-        .iter()
-        .map(|g| g.drones.iter().map(|d| d.pad_voxel()).collect())
-        .collect();
-    super::flight::solve_from(mission, 0, pads, options, progress)
 }
 
 /// Which TAPF group each of a leg's groups or drones becomes: `(group, None)` for a

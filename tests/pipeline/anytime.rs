@@ -116,10 +116,12 @@ fn a_short_deadline_gives_a_valid_plan_with_its_gap_stated() {
     }
 }
 
-/// A whole flight answers first with every leg's first plan, then improves with
-/// the time left: a caller that keeps back more time than there is (to schedule
-/// and check the plan) gets exactly the first answer, valid, each leg's makespan
-/// its first plan's; one that keeps nothing back, with time enough, the optimum.
+/// A whole flight answers first with every leg's first plan (or, on a small leg,
+/// the exact search's answer within its head start), then improves with the time
+/// left: a caller that keeps back more time than there is (to schedule and check
+/// the plan) gets exactly the first answer, valid, each leg proven optimal or its
+/// makespan its first plan's; one that keeps nothing back, with time enough, the
+/// optimum, no longer than the first answer.
 #[test]
 fn the_first_answer_is_a_whole_flight_of_first_plans_and_the_rest_improves_it() {
     let m = show(200, 10, [20, 20, 6], 2);
@@ -129,14 +131,9 @@ fn the_first_answer_is_a_whole_flight_of_first_plans_and_the_rest_improves_it() 
     };
     let first = plan::solve(&m, &no_time_after).expect("a first answer");
     plan::validate_plan(&m, &first.plan).expect("valid");
-    for leg in &first.stats.legs {
-        assert_eq!(
-            Some(leg.makespan_steps),
-            leg.first_plan_steps,
-            "{}",
-            leg.name
-        );
-        assert_eq!(leg.ct_nodes_expanded, 0, "{}: no exact search", leg.name);
+    for (leg, stats) in first.plan.legs.iter().zip(&first.stats.legs) {
+        let kept_first = stats.first_plan_steps == Some(leg.makespan_steps);
+        assert!(leg.gap_steps() == 0 || kept_first, "{}", leg.name);
     }
     let improved = plan::solve(&m, &PlanOptions::default()).expect("planned");
     plan::validate_plan(&m, &improved.plan).expect("valid");
