@@ -38,10 +38,11 @@ pub fn solve(mission: &Mission, options: &PlanOptions) -> Result<Solution, PlanE
 /// Plans `mission` leg by leg in its airspace: takeoff from the pads, each formation,
 /// landing; every leg makespan-optimal with CBM given where the previous one left
 /// the drones, as far as the deadline allows (else the best plan found, each leg's
-/// gap to its proven bound stated; see [`solve_from`]). Deterministic for `options.seed`, except that on a leg whose conflict
-/// tree passes `options.exact_after_ct_nodes` the exact method races it and the
-/// first to finish gives the paths (the makespan, optimal either way, never
-/// changes); `progress` is called a few times a second while a conflict tree grows.
+/// gap to its proven bound stated in [`Solution`]). Deterministic for `options.seed`,
+/// except that on a leg whose conflict tree passes `options.exact_after_ct_nodes`
+/// the exact method races it and the first to finish gives the paths (the makespan,
+/// optimal either way, never changes); `progress` is called a few times a second
+/// while a conflict tree grows.
 /// The deadline covers all legs together.
 pub fn solve_with_progress(
     mission: &Mission,
