@@ -59,6 +59,10 @@ pub enum HarnessError {
     /// be shut down (and its sockets would outlive the run).
     #[error("the swarm is still shared after the flight")]
     SwarmStillShared,
+    /// A timing flight failed before takeoff or never finished: there is no
+    /// execution to time (the text names the mission and why).
+    #[error("{0}")]
+    Flight(String),
     /// A scenario names a fault `--fault` would refuse.
     #[error(transparent)]
     Fault {

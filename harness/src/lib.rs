@@ -1,5 +1,6 @@
 //! Reproducible benchmark suites behind `swarmctl bench`: the planner suites,
-//! the fault matrix, the soak, load and relay-load runners.
+//! the fault matrix, the soak, load and relay-load runners, and the timing of
+//! flights against their schedules.
 //!
 //! Each suite is a list of seeded instances; the report gives medians and maxima, so
 //! a noisy shared machine shows as spread rather than as a wrong figure.
@@ -11,6 +12,7 @@ mod plan_suite;
 pub mod relays;
 pub mod resources;
 mod stats;
+pub mod timing;
 
 pub use error::HarnessError;
 pub use load::{LoadOptions, LoadReport, run_load};

@@ -38,6 +38,24 @@ pub enum FlyError {
     /// Some vehicles failed pre-flight; one line per problem, naming the drone.
     #[error("pre-flight checks failed, nobody was armed:\n{}", .0.join("\n"))]
     Preflight(Vec<String>),
+    /// `fly --start-at`: the start instant leaves less than the takeoff lead (from
+    /// the start, or once pre-flight had passed): nobody was armed.
+    #[error(
+        "refused before takeoff: the start instant is {} and takeoff needs {takeoff_lead_s:.0} s before it{}; nobody was armed",
+        if *start_in_s >= 0.0 { format!("{start_in_s:.1} s away") } else { format!("{:.1} s past", -start_in_s) },
+        if *after_preflight { " (pre-flight took until then)" } else { "" }
+    )]
+    StartTooSoon {
+        /// Seconds from the refusal to the start instant (negative: passed).
+        start_in_s: f64,
+        /// Seconds the swarm needs from arming to above its pads.
+        takeoff_lead_s: f64,
+        /// Pre-flight had passed: it was pre-flight that took too long.
+        after_preflight: bool,
+    },
+    /// Aborted while waiting on the ground for the start instant: nobody was armed.
+    #[error("aborted before takeoff while waiting for the start instant; nobody was armed")]
+    AbortedBeforeTakeoff,
     /// Some vehicles would not arm; one line per drone, refusals and disarms.
     #[error("arming failed, every armed drone was disarmed again:\n{}", .0.join("\n"))]
     Arming(Vec<String>),

@@ -99,7 +99,7 @@ pub async fn run(
         // A splice above restarts the plan clock.
         if let Some(t0) = flight.plan_t0 {
             // Gates first (from everyone's progress), then commanded motion.
-            flight.step_plan(now.duration_since(t0).as_secs_f64(), dt_s);
+            flight.step_plan(now.duration_since(t0).as_secs_f64(), dt_s, now, since_arm_s);
         }
         flight.deliver(&mut inbox);
         for d in flight.drones.iter_mut() {
@@ -191,17 +191,21 @@ impl<'a> Flight<'a> {
                 );
                 self.aborting = true;
                 self.event(since_arm_s, &why);
-            } else if since_arm_s > TAKEOFF_TIMEOUT_S {
+            } else if let Some(start) = self.settings.plan_start
+                && now > start
+                && !self.all_at_start()
+            {
+                let why = format!(
+                    "not above their pads at the start instant: {}; holding, then landing",
+                    self.not_at_start().join(", ")
+                );
+                self.aborting = true;
+                self.event(since_arm_s, &why);
+            } else if since_arm_s > TAKEOFF_TIMEOUT_S && !self.all_at_start() {
                 // Name who kept the swarm waiting, and in which phase.
-                let late: Vec<String> = self
-                    .drones
-                    .iter()
-                    .filter(|d| !matches!(d.phase(), Phase::AtStart))
-                    .map(|d| format!("{} ({})", d.id(), d.phase().name()))
-                    .collect();
                 let why = format!(
                     "takeoff timed out after {TAKEOFF_TIMEOUT_S:.0} s, not above their pads: {}; holding, then landing",
-                    late.join(", ")
+                    self.not_at_start().join(", ")
                 );
                 self.aborting = true;
                 self.event(since_arm_s, &why);
@@ -238,9 +242,9 @@ impl<'a> Flight<'a> {
     }
 
     /// Observed progress, gates and commanded motion of every flying drone.
-    fn step_plan(&mut self, t_s: f64, dt_s: f64) {
+    fn step_plan(&mut self, t_s: f64, dt_s: f64, now: Instant, since_arm_s: f64) {
         for d in self.drones.iter_mut() {
-            d.observe_progress(t_s, self.settings.settle_tolerance_m);
+            d.observe_progress(t_s, &self.settings, now, since_arm_s);
         }
         let progress: Vec<Progress> = self.drones.iter().map(|d| d.progress().clone()).collect();
         let d_m = self.settings.safety_distance_m;
@@ -268,19 +272,36 @@ impl<'a> Flight<'a> {
         }
     }
 
-    /// Everyone at the start: the plan clock starts.
+    /// Every drone above its pad, ready for the plan.
+    fn all_at_start(&self) -> bool {
+        self.drones
+            .iter()
+            .all(|d| matches!(d.phase(), Phase::AtStart))
+    }
+
+    /// The drones not above their pads yet, with their phase.
+    fn not_at_start(&self) -> Vec<String> {
+        self.drones
+            .iter()
+            .filter(|d| !matches!(d.phase(), Phase::AtStart))
+            .map(|d| format!("{} ({})", d.id(), d.phase().name()))
+            .collect()
+    }
+
+    /// Everyone at the start: the plan clock starts, then or at the start instant
+    /// asked for (plan time 0 is that instant, so the first tick after it is at
+    /// most a setpoint period into the plan).
     fn start_plan_clock(&mut self, now: Instant, since_arm_s: f64) {
-        if self.execution_t0.is_some()
-            || self.aborting
-            || !self
-                .drones
-                .iter()
-                .all(|d| matches!(d.phase(), Phase::AtStart))
-        {
+        if self.execution_t0.is_some() || self.aborting || !self.all_at_start() {
             return;
         }
-        self.execution_t0 = Some(now);
-        self.plan_t0 = Some(now);
+        let t0 = match self.settings.plan_start {
+            Some(start) if now < start => return,
+            Some(start) => start,
+            None => now,
+        };
+        self.execution_t0 = Some(t0);
+        self.plan_t0 = Some(t0);
         for d in self.drones.iter_mut() {
             d.start_plan();
         }

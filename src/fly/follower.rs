@@ -85,6 +85,8 @@ pub struct Follower {
     motion: Motion,
     /// Braking from the commanded state at this time is known to stop in time.
     validated_until_s: f64,
+    /// When the current rest began (the motion before it ended), seconds.
+    rest_since_s: f64,
     /// Stop as soon as possible and stay (Ctrl-C, mission timeout).
     halted: bool,
     /// Stop as soon as possible until unpaused (telemetry or link lost: the
@@ -107,6 +109,7 @@ impl Follower {
             run: 0,
             motion: Motion::Rest { x_m: 0.0 },
             validated_until_s: 0.0,
+            rest_since_s: f64::NEG_INFINITY,
             halted: false,
             paused: false,
             tracking_hold: false,
@@ -209,6 +212,11 @@ impl Follower {
         settled: bool,
     ) -> Setpoint {
         let a = self.limits.max_accel_mps2;
+        // Held last tick by something this tick's observations cleared (a gate, the
+        // vehicle settling or straying, a pause): a run starts now. Otherwise it was
+        // only due (its scheduled start, or the end of the motion before it) at some
+        // moment since the last tick, and starts then — see `start_s`.
+        let held_by_observation = !matches!(self.hold, Hold::None | Hold::Schedule);
         // A handful of transitions at most happen in one tick (finish a run, start the next).
         for _ in 0..4 {
             let Some(run) = route.runs.get(self.run) else {
@@ -240,10 +248,20 @@ impl Follower {
                     if self.hold != Hold::None {
                         break;
                     }
+                    let t0_s = if held_by_observation {
+                        t_s
+                    } else {
+                        let due_s = if x_m <= 0.0 {
+                            run.scheduled_start_s
+                        } else {
+                            f64::NEG_INFINITY
+                        };
+                        start_s(t_s, dt_s, due_s.max(self.rest_since_s))
+                    };
                     self.motion = Motion::Moving {
                         x0_m: x_m,
                         profile: Profile::new(run.length_m - x_m, self.limits),
-                        t0_s: t_s,
+                        t0_s,
                     };
                     self.validated_until_s = t_s;
                 }
@@ -257,6 +275,7 @@ impl Follower {
                         self.motion = Motion::Rest {
                             x_m: x0_m + profile.length_m,
                         };
+                        self.rest_since_s = t0_s + profile.duration_s();
                         continue;
                     }
                     let stop_next_m = Brake::new(self.state_at(t_s + dt_s), self.limits).stop_m();
@@ -279,6 +298,7 @@ impl Follower {
                         self.motion = Motion::Rest {
                             x_m: brake.stop_m(),
                         };
+                        self.rest_since_s = t0_s + brake.duration_s();
                         continue;
                     }
                     break;
@@ -306,5 +326,112 @@ impl Follower {
                 }
             }
         }
+    }
+}
+
+/// When a run that became due at `due_s` starts, seen at the tick `t_s` (the
+/// previous one `dt_s` earlier): at `due_s` if that was since the previous tick,
+/// so a run waits for nothing but its schedule and a drone on time stays on time
+/// instead of losing up to a tick at every run; never before the previous tick.
+/// The profile begins at rest with its jerk, so starting it up to a tick in the
+/// past moves the first setpoint by at most `jerk · dt³ / 6` and its acceleration
+/// by at most `jerk · dt`: what the jerk limit allows over one tick.
+fn start_s(t_s: f64, dt_s: f64, due_s: f64) -> f64 {
+    due_s.clamp(t_s - dt_s, t_s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fly::path::{RouteRun, distance_m};
+
+    const LIMITS: Kinematics = Kinematics {
+        max_speed_mps: 1.0,
+        max_accel_mps2: 1.0,
+        max_jerk_mps3: 2.5,
+    };
+
+    /// Straight runs along x, each starting when scheduled (`(length, start)`).
+    fn route(runs: &[(f64, f64)]) -> Route {
+        let mut arc_m = 0.0;
+        let runs = runs
+            .iter()
+            .map(|&(length_m, scheduled_start_s)| {
+                let run = RouteRun {
+                    from_m: [arc_m, 0.0, 0.0],
+                    to_m: [arc_m + length_m, 0.0, 0.0],
+                    length_m,
+                    arc_start_m: arc_m,
+                    scheduled_start_s,
+                    profile: Profile::new(length_m, LIMITS),
+                };
+                arc_m += length_m;
+                run
+            })
+            .collect();
+        Route {
+            id: "a".into(),
+            start_m: [0.0; 3],
+            runs,
+            events: Vec::new(),
+        }
+    }
+
+    /// With nothing to wait for, the follower flies the schedule itself: at every
+    /// tick its setpoint is where the schedule puts the drone (runs back to back,
+    /// and a run due between two ticks), never a tick behind per run; and from one
+    /// tick to the next its acceleration changes by at most what the jerk limit
+    /// allows over a tick.
+    #[test]
+    fn a_drone_with_nothing_to_wait_for_keeps_the_schedule_to_the_tick() {
+        let one = Profile::new(1.0, LIMITS).duration_s();
+        // Three back-to-back runs, a rest, then a run due between two ticks.
+        let r = route(&[
+            (1.0, 0.0),
+            (1.0, one),
+            (1.0, 2.0 * one),
+            (1.0, 3.0 * one + 1.013),
+        ]);
+        let dt_s = 0.05;
+        let mut f = Follower::new(LIMITS, 0.0);
+        let mut last_a = 0.0;
+        for k in 0..=(((4.0 * one + 1.2) / dt_s) as usize) {
+            let t_s = k as f64 * dt_s;
+            let s = f.step(&r, t_s, dt_s, f64::INFINITY, true);
+            let scheduled = r.scheduled_arc_m(t_s);
+            let flown = f.arc_m(&r, t_s);
+            assert!(
+                (flown - scheduled).abs() < 1e-9,
+                "t {t_s:.2} s: flown {flown:.6} m, scheduled {scheduled:.6} m"
+            );
+            assert!(distance_m(s.velocity_mps, [0.0; 3]) <= LIMITS.max_speed_mps + 1e-9);
+            let a = s.acceleration_mps2[0];
+            assert!(
+                (a - last_a).abs() <= LIMITS.max_jerk_mps3 * dt_s + 1e-9,
+                "t {t_s:.2} s: acceleration {last_a:.4} → {a:.4} m/s²"
+            );
+            last_a = a;
+        }
+        assert!(f.finished(&r));
+    }
+
+    /// A run held by a closed gate starts when the gate opens, not back-dated to
+    /// when it was due: the setpoint never moves while its gate is closed.
+    #[test]
+    fn a_run_held_at_a_gate_starts_only_once_it_opens() {
+        let r = route(&[(1.0, 0.0)]);
+        let dt_s = 0.05;
+        let mut f = Follower::new(LIMITS, 0.0);
+        for k in 0..10 {
+            let t_s = k as f64 * dt_s;
+            f.step(&r, t_s, dt_s, 0.005, true);
+            assert_eq!(f.arc_m(&r, t_s), 0.0);
+            assert_eq!(f.hold, Hold::Gate);
+        }
+        let t_s = 10.0 * dt_s;
+        f.step(&r, t_s, dt_s, f64::INFINITY, true);
+        assert_eq!(f.arc_m(&r, t_s), 0.0, "starts at this tick, from rest");
+        let later = f.arc_m(&r, t_s + dt_s);
+        assert!(later > 0.0);
     }
 }

@@ -1,12 +1,16 @@
-//! Which events each drone has been *observed* to reach, and which gates are
-//! therefore still closed for the others.
+//! Which events each drone has passed, and which gates are therefore still
+//! closed for the others.
 //!
-//! An event counts as reached only when telemetry shows the drone at or past it
-//! along its route (within [`REACH_TOLERANCE_M`], which absorbs the vehicle's
-//! sensor noise at rest points) — never because the drone was merely commanded
-//! there. A slow or lagging drone therefore holds up exactly the drones whose
-//! events depend on it, and a drone whose link is lost holds them up until it is
-//! heard again.
+//! An event is *reached* when telemetry shows the drone at or past it along its
+//! route (within [`REACH_TOLERANCE_M`], which absorbs the vehicle's sensor noise
+//! at rest points); that is what lateness is measured on. It is *released* — it
+//! no longer holds anyone up — once reached, or earlier, once the drone's
+//! commanded setpoint has passed it while the vehicle is trusted: its telemetry
+//! fresh and within the mission's tracking bound of its setpoint (see
+//! [`Progress::release_commanded`] and the argument in `crate::schedule`). A drone
+//! that is late, lost, or off its setpoint is never trusted, so it still holds up
+//! exactly the drones whose events depend on it until telemetry shows it past,
+//! and a drone whose link is lost holds them up until it is heard again.
 
 use super::path::Route;
 use crate::schedule::EventId;
@@ -14,11 +18,15 @@ use crate::schedule::EventId;
 /// Telemetry within this distance short of an event counts as reaching it.
 pub const REACH_TOLERANCE_M: f64 = 0.03;
 
-/// Observed progress of one drone along its route.
+/// Observed and released progress of one drone along its route.
 #[derive(Debug, Clone, Default)]
 pub struct Progress {
     /// Events `0..reached` have been observed reached.
     pub reached: usize,
+    /// Events `0..released` no longer hold anyone up (`released ≥ reached`).
+    pub released: usize,
+    /// When each of the events `0..released` was released, plan-clock seconds.
+    pub released_at_s: Vec<f64>,
     /// The run the telemetry is on (advances only when its end is observed).
     pub observed_run: usize,
     /// Observed arc length along the route (monotone).
@@ -66,21 +74,55 @@ impl Progress {
                 break;
             }
         }
+        self.release_to(self.reached, t_s);
     }
 
-    /// True if the drone's telemetry has reached event `index`.
-    pub fn has_reached(&self, index: u32) -> bool {
-        (index as usize) < self.reached
+    /// Releases the events the commanded setpoint has passed (`commanded_arc_m`,
+    /// the arc length of the setpoint last streamed), at plan-clock time `t_s`. The
+    /// caller vouches that the vehicle is trusted right now: telemetry fresh and
+    /// within the tracking bound of its setpoint, on our setpoints. A vehicle within
+    /// `e` of a setpoint that has left a voxel's hold is where the schedule's
+    /// argument (run with `d + 2e`) wants it; its setpoint only moves on from there.
+    pub fn release_commanded(&mut self, route: &Route, commanded_arc_m: f64, t_s: f64) {
+        const PASSED_EPS_M: f64 = 1e-6;
+        let passed = route.events[self.released.min(route.events.len())..]
+            .iter()
+            .take_while(|e| e.arc_m <= commanded_arc_m + PASSED_EPS_M)
+            .count();
+        self.release_to(self.released + passed, t_s);
+    }
+
+    /// Every event of the route released (a retired drone that is down and out
+    /// of everyone's way); no release times are recorded.
+    pub fn release_all(&mut self, events: usize) {
+        self.released = self.released.max(events);
+    }
+
+    fn release_to(&mut self, count: usize, t_s: f64) {
+        while self.released < count {
+            self.released += 1;
+            self.released_at_s.push(t_s);
+        }
     }
 
     /// When event `index` was observed reached, plan-clock seconds.
     pub fn reached_at_s(&self, index: u32) -> Option<f64> {
         self.reached_at_s.get(index as usize).copied()
     }
+
+    /// True once event `index` no longer holds anyone up.
+    pub fn has_released(&self, index: u32) -> bool {
+        (index as usize) < self.released
+    }
+
+    /// When event `index` was released, plan-clock seconds.
+    pub fn released_at_s(&self, index: u32) -> Option<f64> {
+        self.released_at_s.get(index as usize).copied()
+    }
 }
 
 /// Arc length of the first event ahead of `commanded_arc_m` whose predecessors are
-/// not all reached, or reached less than its hold ago at plan-clock time `t_s`
+/// not all released, or released less than its hold ago at plan-clock time `t_s`
 /// (∞ if none), and the drone it waits for. `passed` counts the events already
 /// behind the commanded position (kept by the caller, monotone).
 pub fn closed_gate(
@@ -99,16 +141,16 @@ pub fn closed_gate(
         }
     }
     for e in &route.events[*passed..] {
-        if let Some(blocker) = e.after.iter().find(|id| !is_reached(all, **id)) {
+        if let Some(blocker) = e.after.iter().find(|id| !is_released(all, **id)) {
             return (e.arc_m, Some(blocker.drone));
         }
         if e.hold_s > 0.0 {
             // The whole swarm is in formation: hold it for `hold_s` after the last
-            // of them arrived, as observed.
+            // of them arrived (released its arrival).
             let last = e
                 .after
                 .iter()
-                .filter_map(|id| Some((all.get(id.drone as usize)?.reached_at_s(id.index)?, id)))
+                .filter_map(|id| Some((all.get(id.drone as usize)?.released_at_s(id.index)?, id)))
                 .max_by(|a, b| a.0.total_cmp(&b.0));
             if let Some((at_s, id)) = last
                 && t_s < at_s + e.hold_s
@@ -120,9 +162,9 @@ pub fn closed_gate(
     (f64::INFINITY, None)
 }
 
-fn is_reached(all: &[Progress], id: EventId) -> bool {
+fn is_released(all: &[Progress], id: EventId) -> bool {
     all.get(id.drone as usize)
-        .is_some_and(|p| p.has_reached(id.index))
+        .is_some_and(|p| p.has_released(id.index))
 }
 
 #[cfg(test)]
@@ -194,6 +236,43 @@ mod tests {
         assert_eq!((strict.observed_run, strict.reached), (0, 0));
     }
 
+    /// A setpoint past an event releases it for the drones gated on it before
+    /// telemetry reaches it; reaching it (lateness is measured on that) comes later
+    /// and releases nothing twice.
+    #[test]
+    fn the_commanded_setpoint_releases_events_before_telemetry_reaches_them() {
+        let event = |arc_m: f64| RouteEvent {
+            kind: crate::schedule::EventKind::Arrive,
+            voxel: crate::world::Voxel::new(0, 0, 0),
+            step: 0,
+            position_m: [arc_m, 0.0, 0.0],
+            arc_m,
+            reach_s: 0.0,
+            after: Vec::new(),
+            hold_s: 0.0,
+        };
+        let mut r = route(vec![event(0.5), event(1.0)]);
+        r.runs = vec![run([0.0; 3], [1.0, 0.0, 0.0], 0.0)];
+        let waiter = route(vec![RouteEvent {
+            after: vec![EventId { drone: 1, index: 0 }],
+            ..event(0.2)
+        }]);
+        let mut all = vec![Progress::default(), Progress::default()];
+        let mut passed = 0;
+        assert_eq!(closed_gate(&waiter, &mut passed, &all, 0.0, 1.0).1, Some(1));
+        all[1].release_commanded(&r, 0.6, 1.0);
+        assert_eq!((all[1].reached, all[1].released), (0, 1));
+        assert_eq!(closed_gate(&waiter, &mut passed, &all, 0.0, 1.0).1, None);
+        // Telemetry catches up: reached, nothing released again.
+        all[1].observe(&r, [0.55, 0.0, 0.0], (0.6, 0), 1.2, 0.05);
+        assert_eq!((all[1].reached, all[1].released), (1, 1));
+        assert_eq!(all[1].released_at_s, vec![1.0]);
+        assert_eq!(all[1].reached_at_s, vec![1.2]);
+        // A setpoint short of the second event releases nothing more.
+        all[1].release_commanded(&r, 0.9, 1.3);
+        assert_eq!(all[1].released, 1);
+    }
+
     #[test]
     fn a_hold_keeps_the_gate_closed_until_it_has_passed_since_the_last_arrival() {
         let other = EventId { drone: 1, index: 0 };
@@ -211,8 +290,8 @@ mod tests {
         let mut passed = 0;
         // Not reached yet: closed, waiting for drone 1.
         assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 5.0), (0.0, Some(1)));
-        all[1].reached = 1;
-        all[1].reached_at_s = vec![5.0];
+        all[1].released = 1;
+        all[1].released_at_s = vec![5.0];
         assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 6.9), (0.0, Some(1)));
         assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 7.0).1, None);
     }

@@ -1,5 +1,6 @@
 //! The flight log: every drone's telemetry and a summary of how the flight went.
 
+use super::lateness::{EventLateness, LatenessSummary};
 use crate::compiled::CheckFigures;
 use serde::{Deserialize, Serialize};
 
@@ -22,6 +23,14 @@ pub struct FlightLog {
     pub drones: Vec<DroneLog>,
     /// Notable moments in order: link losses, aborts, refusals.
     pub events: Vec<LogEvent>,
+    /// When the first arm command went out, seconds since the Unix epoch (UTC):
+    /// event and sample times are seconds after it. `None` in older logs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub armed_at_unix_s: Option<f64>,
+    /// The start instant asked for (`fly --start-at`), seconds since the Unix
+    /// epoch: plan time 0 ([`PLAN_STARTED`] in `events`) is measured against it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_at_unix_s: Option<f64>,
 }
 
 /// How the flight went: completion, timing, separation and speed against the
@@ -83,8 +92,17 @@ pub struct Summary {
     pub speed_limit_mps: f64,
     /// Times a drone stopped (or could not start) because a TPG predecessor was late.
     pub gating_waits: usize,
-    /// Total time drones spent waiting at a closed gate, seconds.
+    /// Total time drones spent waiting at a closed gate, summed over drones,
+    /// seconds (several waiting at once count several times: the summary prints
+    /// `longest_gating_wait` instead).
     pub gating_wait_s: f64,
+    /// The longest single wait at a closed gate: which drone, how long (seconds).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub longest_gating_wait: Option<(String, f64)>,
+    /// How late the drones reached their events against the schedule (`None`
+    /// when no event was reached).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lateness: Option<LatenessSummary>,
     /// The drone with the largest 95th-percentile tracking error, and that error.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub worst_tracking: Option<(String, TrackingError)>,
@@ -247,6 +265,12 @@ pub struct DroneLog {
     pub gating_waits: usize,
     /// Time it spent waiting at closed gates, seconds.
     pub gating_wait_s: f64,
+    /// Its longest single wait at a closed gate, seconds.
+    #[serde(default)]
+    pub longest_gating_wait_s: f64,
+    /// Every event its telemetry reached: scheduled and reached, plan clock.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lateness: Vec<EventLateness>,
     /// Times its link was lost (nothing heard for the mission's link timeout).
     pub link_losses: usize,
     /// Telemetry against the streamed setpoint while it flew on our setpoints.
@@ -362,29 +386,27 @@ impl Summary {
         )
     }
 
-    /// How long plan execution took against the plan, and, when it took longer,
-    /// where the time went: drones waiting at gates for late predecessors, and
-    /// setpoints waiting for vehicles to come back within the tracking bound. Both
-    /// are summed over drones: several drones waiting at once stretch the plan
-    /// only once, so they show where the time went without adding up to it.
+    /// How long plan execution took against the plan, and the ratio: `40.1 s
+    /// (planned 39.8 s, 1.01×)`. Where the time went is on the lines after it
+    /// (lateness, gating waits, tracking holds, replans).
     fn execution_line(&self) -> String {
         let planned_s = self.planned_makespan_s;
         let Some(executed_s) = self.executed_makespan_s else {
             return format!("  plan execution       not finished (planned {planned_s:.1} s)");
         };
-        let stretch_s = executed_s - planned_s;
-        let mut line =
-            format!("  plan execution       {executed_s:.1} s (planned {planned_s:.1} s");
-        if stretch_s >= 0.05 {
-            line += &format!(
-                "; stretched {stretch_s:.1} s by: gating waits {:.1} s and tracking holds {:.1} s, summed over drones",
-                self.gating_wait_s, self.tracking_hold_s
-            );
-            if !self.replans.is_empty() {
-                line += ", and the replans";
-            }
-        }
-        line + ")"
+        let ratio = if planned_s > 0.0 {
+            format!(", {:.2}×", executed_s / planned_s)
+        } else {
+            String::new()
+        };
+        let replanned = if self.replans.is_empty() {
+            ""
+        } else {
+            "; replanned in flight"
+        };
+        format!(
+            "  plan execution       {executed_s:.1} s (planned {planned_s:.1} s{ratio}{replanned})"
+        )
     }
 
     /// The lines `swarmctl fly` prints.
@@ -442,8 +464,13 @@ impl Summary {
                 self.tracking_hold_s
             ),
             format!(
-                "  gating waits         {} ({:.1} s summed over drones)",
-                self.gating_waits, self.gating_wait_s
+                "  gating waits         {}{}",
+                self.gating_waits,
+                self.longest_gating_wait
+                    .as_ref()
+                    .map_or(String::new(), |(id, s)| format!(
+                        " (longest {s:.1} s, {id})"
+                    ))
             ),
             format!(
                 "  final pad distance   ≤ {:.3} m (before touchdown)",
@@ -453,6 +480,10 @@ impl Summary {
         // After the min separation line.
         if let Some(scaled) = self.scaled_line() {
             lines.insert(4, scaled);
+        }
+        // After the plan execution line.
+        if let Some(lateness) = &self.lateness {
+            lines.insert(3, lateness.line());
         }
         lines.extend(
             self.check
@@ -517,6 +548,8 @@ mod tests {
             speed_limit_mps: 1.0,
             gating_waits: 0,
             gating_wait_s: 0.0,
+            longest_gating_wait: None,
+            lateness: None,
             max_final_distance_to_goal_m: 0.0,
             worst_tracking: None,
             tracking_bound_m: 0.3,
@@ -538,7 +571,10 @@ mod tests {
         let mut s = summary(0.6);
         s.planned_makespan_s = 40.0;
         s.executed_makespan_s = Some(44.5);
+        s.gating_waits = 7;
         s.gating_wait_s = 6.3;
+        s.longest_gating_wait = Some(("r2".into(), 2.4));
+        s.tracking_holds = 2;
         s.tracking_hold_s = 1.5;
         s.lost = vec!["b3".into()];
         s.lost_last_known = vec![LastKnown {
@@ -551,7 +587,11 @@ mod tests {
         }];
         let text = s.lines().join("\n");
         assert!(
-            text.contains("plan execution       44.5 s (planned 40.0 s; stretched 4.5 s by: gating waits 6.3 s and tracking holds 1.5 s, summed over drones)"),
+            text.contains("plan execution       44.5 s (planned 40.0 s, 1.11×)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("gating waits         7 (longest 2.4 s, r2)"),
             "{text}"
         );
         // Lost, and listed once whether or not the log kept `unaccounted`.
@@ -582,7 +622,7 @@ mod tests {
         assert!(
             s.lines()
                 .join("\n")
-                .contains("plan execution       40.0 s (planned 40.0 s)\n")
+                .contains("plan execution       40.0 s (planned 40.0 s, 1.00×)\n")
         );
     }
 

@@ -25,6 +25,7 @@ mod executor;
 mod follower;
 mod freeze;
 mod gate;
+mod lateness;
 mod log;
 mod observer;
 mod options;
@@ -36,11 +37,13 @@ mod replan;
 mod report;
 mod settings;
 mod splice;
+mod start_at;
 mod tap;
 mod unaccounted;
 mod vehicle_limits;
 
 pub use error::FlyError;
+pub use lateness::{EventLateness, LatenessSummary};
 pub use log::{
     DroneLog, FlightLog, LogEvent, PLAN_STARTED, ReplanRecord, SPEED_TOLERANCE, Summary,
     TrackingError,
@@ -49,6 +52,7 @@ pub use observer::{DroneStatus, FlightObserver, FlightStatus};
 pub use options::{FlyOptions, VehicleLink};
 pub use placement::{FrameFix, FrameSource};
 pub use replan::ReplanOptions;
+pub use start_at::{StartAt, plan_start_delay_s};
 
 /// The pieces of a replan in flight, public for the replan benchmark
 /// (`benches/replan.rs`), which times them apart from a flight.
@@ -91,9 +95,16 @@ pub async fn fly_checked(
     mission: &Mission,
     plan: &CheckedPlan,
     options: &FlyOptions,
-    abort: tokio::sync::watch::Receiver<bool>,
+    mut abort: tokio::sync::watch::Receiver<bool>,
 ) -> Result<FlightLog, FlyError> {
     let routes = routes(mission, plan, options)?;
+    // Pre-flight gets until the swarm must arm for the start instant, at most.
+    let ready_timeout = match &options.start_at {
+        Some(start) => start
+            .until_arming(std::time::SystemTime::now(), false)?
+            .min(options.ready_timeout),
+        None => options.ready_timeout,
+    };
     let planned_makespan_s = plan.compiled().execution.makespan_s;
     let ids: Vec<String> = routes.iter().map(|r| r.id.clone()).collect();
     let sessions = connect_all(&ids, options).await?;
@@ -107,13 +118,15 @@ pub async fn fly_checked(
         mission_limits: mission.limits,
         commanded_limits: mission.commanded_limits(),
         heartbeat_timeout: options.heartbeat_timeout,
-        ready_timeout: options.ready_timeout,
+        ready_timeout,
         start_tolerance_m: options.start_tolerance_m,
         position_rate_hz: mission.link.setpoint_rate_hz,
     };
     let checked = preflight::check_all(&ids, &sessions, &grounds, limits).await?;
     let flavours: Vec<_> = checked.iter().map(|c| c.flavour).collect();
+    start_at::wait_to_arm(options.start_at.as_ref(), &mut abort).await?;
     let armed_at = Instant::now();
+    let armed_at_unix_s = start_at::unix_s(std::time::SystemTime::now());
     for s in &sessions {
         s.state().recording = true;
     }
@@ -151,6 +164,7 @@ pub async fn fly_checked(
         ellipsoid: l.is_ellipsoid().then(|| l.separation()),
         // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
         ground_clear: mission.pad_height_m() >= l.safety_distance_m,
+        plan_start: options.start_at.map(|s| s.instant()),
     };
     let replanner = replan::Replanner::new(
         options.replan,
@@ -185,6 +199,8 @@ pub async fn fly_checked(
         summary,
         drones: drone_logs,
         events: outcome.events,
+        armed_at_unix_s: Some(armed_at_unix_s),
+        start_at_unix_s: options.start_at.map(|s| start_at::unix_s(s.at)),
     })
 }
 

@@ -72,6 +72,9 @@ pub struct FlyOptions {
     pub signing_key: Option<SigningKey>,
     /// Whether and how the rest of the flight is replanned when drones leave it.
     pub replan: super::replan::ReplanOptions,
+    /// Start the plan at this instant instead of as soon as the swarm is above its
+    /// pads (see [`super::StartAt`]).
+    pub start_at: Option<super::StartAt>,
 }
 
 impl std::fmt::Debug for FlyOptions {
@@ -88,6 +91,7 @@ impl std::fmt::Debug for FlyOptions {
             .field("observers", &self.observers.len())
             .field("signing_key", &self.signing_key)
             .field("replan", &self.replan)
+            .field("start_at", &self.start_at)
             .finish()
     }
 }
@@ -95,7 +99,8 @@ impl std::fmt::Debug for FlyOptions {
 impl FlyOptions {
     /// Defaults for a calm link: 5 s for the first heartbeat, per-vehicle frames,
     /// 0.3 m start tolerance, 10 cm settle tolerance, 4 × makespan timeout, no observers,
-    /// unsigned, replanning on (see `ReplanOptions::default`).
+    /// unsigned, replanning on (see `ReplanOptions::default`), the plan started as
+    /// soon as the swarm is above its pads.
     pub fn new(vehicles: Vec<VehicleLink>) -> Self {
         Self {
             vehicles,
@@ -109,6 +114,7 @@ impl FlyOptions {
             observers: Vec::new(),
             signing_key: None,
             replan: super::replan::ReplanOptions::default(),
+            start_at: None,
         }
     }
 }

@@ -3,6 +3,7 @@
 
 use super::drone::DroneRun;
 use super::executor::Outcome;
+use super::lateness::LatenessSummary;
 use super::log::{DroneLog, LastKnown, Summary, Unaccounted};
 use super::options::VehicleLink;
 use super::phase::Phase;
@@ -47,6 +48,8 @@ pub fn drone_logs(
                 final_distance_to_goal_m: d.final_distance_to_goal_m(),
                 gating_waits: d.gating_waits(),
                 gating_wait_s: d.gating_wait_s(),
+                longest_gating_wait_s: d.longest_gating_wait_s(),
+                lateness: d.lateness().to_vec(),
                 link_losses: d.link_losses(),
                 tracking_error: d.tracking_error(),
                 tracking_holds: d.tracking_holds(),
@@ -104,6 +107,12 @@ pub fn summary(flown: &Flown<'_>, outcome: &Outcome) -> Summary {
         speed_limit_mps: flown.limits.max_speed_mps,
         gating_waits: logs.iter().map(|d| d.gating_waits).sum(),
         gating_wait_s: logs.iter().map(|d| d.gating_wait_s).sum(),
+        longest_gating_wait: logs
+            .iter()
+            .filter(|d| d.gating_waits > 0)
+            .map(|d| (d.id.clone(), d.longest_gating_wait_s))
+            .max_by(|a, b| a.1.total_cmp(&b.1)),
+        lateness: LatenessSummary::of(logs.iter().map(|d| (d.id.as_str(), &d.lateness[..]))),
         lost: ids_where(drones, |d| matches!(d.phase(), Phase::Lost { .. })),
         lost_last_known: drones
             .iter()

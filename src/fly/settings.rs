@@ -34,4 +34,8 @@ pub struct LoopSettings {
     /// The ground lies below the pad layer, the airspace's lowest, by at least the
     /// safety distance, so a drone landed out of the plan is in nobody's way.
     pub ground_clear: bool,
+    /// Plan time 0 (`fly --start-at`): the plan clock starts at this instant, and
+    /// a drone not above its pad by then aborts the flight. `None`: as soon as
+    /// every drone is above its pad.
+    pub plan_start: Option<std::time::Instant>,
 }

@@ -93,6 +93,23 @@
 //! from it (and, through the gates, everyone waiting for it), and reports whether the
 //! bound held.
 //!
+//! **Releasing gates on commanded progress.** The argument orders *setpoints*: `B`'s
+//! setpoint may enter `v` once `A`'s has left it. In flight a gate is therefore
+//! released as soon as the predecessor's *setpoint* has passed the event, provided
+//! its vehicle is at that moment known to be within `e` of it: its newest position
+//! is fresh (at most a few setpoint periods old), it lies within `e` of the
+//! setpoint streamed when it was taken, and that setpoint is past the event. From
+//! then on `A`'s setpoint only moves further along its path, and `A`'s vehicle is
+//! within `e` of it whenever the bound holds, which is what every other step above
+//! assumes too; when the bound breaks, `A`'s setpoint is held and the flight
+//! reports it. A predecessor whose telemetry is stale, whose link is lost, whose
+//! setpoint is held for straying, or that is off its setpoint by more than `e` is
+//! not trusted: its events are released only when telemetry shows it past them, so
+//! a late, lost or straying drone still makes exactly its dependants wait. With no
+//! bound (`e = 0`) only telemetry releases. Waiting for telemetry at every gate
+//! would add the telemetry latency and the vehicle's lag to every zero-slack
+//! precedence, and along a chain of dependants those delays add up.
+//!
 //! **Ellipsoids.** Downwash reaches further below a drone than beside it, so a mission
 //! may separate drones by an axis-aligned ellipsoid instead (`limits.separation`:
 //! horizontal radius `H`, vertical `V`; see [`crate::world::Separation`]). The schedule

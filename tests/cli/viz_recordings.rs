@@ -262,6 +262,8 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
         speed_limit_mps: 1.0,
         gating_waits: 0,
         gating_wait_s: 0.0,
+        longest_gating_wait: None,
+        lateness: None,
         max_final_distance_to_goal_m: 0.0,
         worst_tracking: None,
         tracking_bound_m: 0.3,
@@ -289,6 +291,8 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
             final_distance_to_goal_m: Some(0.0),
             gating_waits: 0,
             gating_wait_s: 0.0,
+            longest_gating_wait_s: 0.0,
+            lateness: Vec::new(),
             link_losses: 0,
             tracking_error: None,
             tracking_holds: 0,
@@ -311,6 +315,8 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
             drone: None,
             message: swarmctl::fly::PLAN_STARTED.into(),
         }],
+        armed_at_unix_s: None,
+        start_at_unix_s: None,
     }
 }
 

@@ -6,8 +6,8 @@ use rerun::blueprint::{
     TimeSeriesView, Vertical,
 };
 
-/// 3D view on the left; on the right, minimum separation, per-drone speeds and
-/// the event log stacked, and with `scaled` (an ellipsoidal separation) the
+/// 3D view on the left; on the right, minimum separation, per-drone speeds,
+/// per-drone lateness against the schedule (flights) and the event log stacked, and with `scaled` (an ellipsoidal separation) the
 /// minimum scaled separation under the separation in metres: unitless, so in a
 /// plot of its own, and only then, so a sphere's layout has no empty plot.
 /// Speeds of 100 drones in one plot are a blur, but the envelope (who exceeds
@@ -42,6 +42,12 @@ pub fn layout(timeline: &str, scaled: bool) -> Blueprint {
         TimeSeriesView::new("speed (m/s)")
             .with_origin("/metrics")
             .with_contents(["/metrics/plan/speed_mps", "/metrics/flight/speed_mps"])
+            .into(),
+    );
+    views.push(
+        TimeSeriesView::new("lateness (s)")
+            .with_origin("/metrics")
+            .with_contents(["/metrics/flight/lateness_s/**"])
             .into(),
     );
     views.push(TextLogView::new("events").with_origin("/events").into());

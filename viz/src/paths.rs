@@ -68,6 +68,10 @@ pub fn scaled_limit(kind: &str) -> EntityPath {
 pub fn safety_distance(kind: &str) -> EntityPath {
     path(&["metrics", kind, "safety_distance_m"])
 }
+/// One drone's lateness against the schedule at each event it reached, seconds.
+pub fn lateness(kind: &str, drone: &str) -> EntityPath {
+    path(&["metrics", kind, "lateness_s", drone])
+}
 /// Text events: TPG waits in a plan, the flight log's events in a flight.
 pub fn events(kind: &str) -> EntityPath {
     path(&["events", kind])

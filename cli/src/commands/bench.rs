@@ -38,6 +38,17 @@ enum Target {
         #[arg(long)]
         only: Option<String>,
     },
+    /// Fly missions on the bundled SITL and time plan execution against the
+    /// schedule: median ratio, lateness and gating waits, with separation and
+    /// speed measured from the simulator's truth.
+    Timing {
+        /// Missions to fly (default: every example with at most 100 drones).
+        #[arg(value_name = "MISSION")]
+        missions: Vec<std::path::PathBuf>,
+        /// Flights per mission (the table gives the median).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+    },
     /// Fly missions back to back in one process; report memory and open files.
     Soak {
         #[arg(long, default_value = "missions/formation-change.yaml")]
@@ -98,6 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             only,
         } => super::bench_flight::faults(&mission, reduced, only.as_deref()),
         Target::Soak { mission, flights } => super::bench_flight::soak(&mission, flights),
+        Target::Timing { missions, runs } => super::bench_flight::timing(&missions, runs),
         Target::Load {
             vehicles,
             seed,

@@ -1,5 +1,6 @@
-//! `swarmctl bench faults` and `swarmctl bench soak`: whole flights on the bundled
-//! SITL, for reliability rather than speed.
+//! `swarmctl bench faults`, `swarmctl bench soak` and `swarmctl bench timing`:
+//! whole flights on the bundled SITL, for reliability and timekeeping rather
+//! than speed.
 
 use anyhow::Context;
 use std::path::Path;
@@ -109,6 +110,70 @@ pub fn soak(mission: &Path, flights: usize) -> anyhow::Result<ExitCode> {
     Ok(if all_passed {
         ExitCode::SUCCESS
     } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// The examples `bench timing` flies by default: every mission in `missions/`
+/// with at most this many drones.
+const TIMING_MAX_DRONES: usize = 100;
+
+/// Generous: the longest example flight takes about two minutes.
+const TIMING_LIMIT: Duration = Duration::from_secs(600);
+
+pub fn timing(missions: &[std::path::PathBuf], runs: usize) -> anyhow::Result<ExitCode> {
+    anyhow::ensure!(runs > 0, "--runs must be at least 1");
+    let mut loaded = Vec::new();
+    if missions.is_empty() {
+        let mut files: Vec<_> = std::fs::read_dir("missions")
+            .context("reading missions/ (run from the repository, or name the missions)")?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "yaml"))
+            .collect();
+        files.sort();
+        for file in files {
+            let mission = swarmctl::mission::load(&file)?;
+            let bundled = mission.drones().all(|(_, d)| d.endpoint.is_none())
+                && mission.link.relays.is_empty();
+            if mission.drone_count() <= TIMING_MAX_DRONES && bundled {
+                loaded.push(mission);
+            }
+        }
+    } else {
+        for file in missions {
+            loaded.push(swarmctl::mission::load(file)?);
+        }
+    }
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    let mut reports = Vec::new();
+    for (i, mission) in loaded.iter().enumerate() {
+        eprintln!(
+            "[{}/{}] {} ({} drones, {runs} flights)",
+            i + 1,
+            loaded.len(),
+            mission.name,
+            mission.drone_count()
+        );
+        let report = runtime.block_on(swarmctl_harness::timing::time_mission(
+            mission,
+            runs,
+            TIMING_LIMIT,
+        ))?;
+        if let Some(ratio) = report.ratio() {
+            eprintln!(
+                "      planned {:.1} s, executed {:.1} s median: {ratio:.3}×",
+                report.planned_s,
+                report.median_executed_s().unwrap_or(f64::NAN)
+            );
+        }
+        reports.push(report);
+    }
+    println!("{}", swarmctl_harness::timing::markdown_table(&reports));
+    let bad = reports.iter().filter(|r| !r.safe_and_complete()).count();
+    Ok(if bad == 0 {
+        ExitCode::SUCCESS
+    } else {
+        eprintln!("{bad} missions not safe and complete in every flight");
         ExitCode::FAILURE
     })
 }

@@ -43,8 +43,25 @@ pub fn scaled_summary_event(log: &FlightLog) -> Option<(f64, String)> {
     Some((t_s, text))
 }
 
-/// Records `log` to `sink`: the flown telemetry on `flight_time`, the log's
-/// events (and, under an ellipsoid, the summary's minimum scaled separation),
+/// Each drone's lateness against the schedule, `(flight time, seconds late)` at
+/// each event it reached, for drones that reached any.
+pub fn lateness_series(log: &FlightLog) -> Vec<(&str, Vec<(f64, f64)>)> {
+    log.drones
+        .iter()
+        .filter(|d| !d.lateness.is_empty())
+        .map(|d| {
+            let series = d
+                .lateness
+                .iter()
+                .map(|e| (e.flight_s, e.lateness_s()))
+                .collect();
+            (d.id.as_str(), series)
+        })
+        .collect()
+}
+
+/// Records `log` to `sink`: the flown telemetry on `flight_time`, each drone's
+/// lateness, the log's events (and, under an ellipsoid, the summary's minimum scaled separation),
 /// and — when given — the mission's world and the plan, the plan on
 /// `plan_time` and again on `flight_time` from the moment execution began.
 /// Samples go through the same recorder thread a live flight would use, but
@@ -117,6 +134,9 @@ pub fn record_flight(
     }
     if let Some((t_s, text)) = scaled_summary_event(log) {
         handle.event_blocking(t_s, None, &text)?;
+    }
+    for (drone, series) in lateness_series(log) {
+        handle.lateness_blocking(drone, series)?;
     }
     drop(handle);
     Ok(recorder.finish()?)

@@ -99,8 +99,8 @@ impl LiveFlight {
 
     /// Finishes the recording once the flight is over: everything queued is
     /// logged and the stream flushed. `log` supplies the plan's start on the flight
-    /// timeline if the live event was missed, and (under an ellipsoid) the
-    /// summary's minimum scaled separation, known only now.
+    /// timeline if the live event was missed, each drone's lateness and (under an
+    /// ellipsoid) the summary's minimum scaled separation, known only now.
     pub fn finish(self, log: &FlightLog) -> Result<RecorderStats, RecordError> {
         if !self.tap.plan_started.load(Ordering::Relaxed)
             && let Some(t_s) = super::flight_plan_offset_s(log)
@@ -109,6 +109,9 @@ impl LiveFlight {
         }
         if let Some((t_s, text)) = super::scaled_summary_event(log) {
             self.tap.handle.event_blocking(t_s, None, &text)?;
+        }
+        for (drone, series) in super::lateness_series(log) {
+            self.tap.handle.lateness_blocking(drone, series)?;
         }
         Ok(self.recorder.finish()?)
     }

@@ -12,7 +12,7 @@ mod mission;
 mod plan;
 
 pub use args::ViewerArgs;
-pub use flight::{flight_plan_offset_s, record_flight, scaled_summary_event};
+pub use flight::{flight_plan_offset_s, lateness_series, record_flight, scaled_summary_event};
 pub use live::LiveFlight;
 pub use mission::mission_scene;
 pub use plan::{plan_scene, record_plan};

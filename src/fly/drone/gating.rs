@@ -10,6 +10,10 @@ pub(super) struct Gating {
     pub(super) waits: usize,
     /// Seconds it spent waiting at closed gates.
     pub(super) wait_s: f64,
+    /// Seconds of the wait under way (0 when not waiting).
+    pub(super) current_s: f64,
+    /// Its longest single wait, seconds.
+    pub(super) longest_s: f64,
     /// The drone (plan order) it waits for at a closed gate.
     pub(super) waiting_for: Option<u32>,
 }
@@ -21,10 +25,14 @@ impl Gating {
         if gated {
             if !was_gated {
                 self.waits += 1;
+                self.current_s = 0.0;
             }
             self.wait_s += dt_s;
+            self.current_s += dt_s;
+            self.longest_s = self.longest_s.max(self.current_s);
             self.waiting_for = blocker;
         } else {
+            self.current_s = 0.0;
             self.waiting_for = None;
         }
     }
@@ -52,6 +60,10 @@ mod tests {
         assert_eq!(g.waiting_for, None);
         g.count(true, false, None, 0.05);
         assert_eq!(g.waits, 2);
+        assert!(
+            (g.longest_s - 0.1).abs() < 1e-12,
+            "the first wait, not the sum"
+        );
         g.passed_events = 4;
         g.restart();
         assert_eq!((g.passed_events, g.waits), (0, 2));

@@ -32,6 +32,7 @@ use super::autopilot::Flavour;
 use super::command::{CommandSender, Request};
 use super::follower::{Follower, Setpoint};
 use super::gate::Progress;
+use super::lateness::EventLateness;
 use super::log::{LogEvent, TrackingError};
 use super::observer::DroneStatus;
 use super::path::Route;
@@ -83,6 +84,10 @@ pub struct DroneRun {
     route: Route,
     follower: Follower,
     progress: Progress,
+    /// Arc length of the plan setpoint streamed last (see `plan::observe_progress`).
+    streamed_arc_m: f64,
+    /// Every event telemetry showed it reach, against the schedule.
+    lateness: Vec<EventLateness>,
     phase: Phase,
     /// What telemetry says about it, and its link's health.
     telemetry: Telemetry,
@@ -126,6 +131,8 @@ impl DroneRun {
             route,
             follower,
             progress: Progress::default(),
+            streamed_arc_m: 0.0,
+            lateness: Vec::new(),
             phase,
             telemetry: Telemetry::new(),
             membership: Membership::default(),
@@ -256,8 +263,12 @@ impl DroneRun {
     /// air (see `tracking`).
     pub fn sample_tracking(&mut self, now: Instant) {
         let following = matches!(self.phase, Phase::Flying | Phase::AtStart | Phase::AtGoal);
+        let in_plan = matches!(self.phase, Phase::Flying | Phase::AtGoal);
+        let streamed = self
+            .last_setpoint
+            .map(|s| (s, in_plan.then_some(self.streamed_arc_m)));
         self.tracking
-            .sample(now, self.last_setpoint, following, &self.telemetry);
+            .sample(now, streamed, following, &self.telemetry);
     }
 
     /// Distance from the newest position sample to the setpoint streamed last before
@@ -290,6 +301,16 @@ impl DroneRun {
     /// Seconds it spent waiting at closed gates.
     pub fn gating_wait_s(&self) -> f64 {
         self.gating.wait_s
+    }
+
+    /// Its longest single wait at a closed gate, seconds.
+    pub fn longest_gating_wait_s(&self) -> f64 {
+        self.gating.longest_s
+    }
+
+    /// Every event telemetry showed it reach, against the schedule.
+    pub fn lateness(&self) -> &[EventLateness] {
+        &self.lateness
     }
 
     /// Distance to its goal when plan execution ended, metres.

@@ -26,6 +26,8 @@ impl DroneRun {
         self.route = route;
         self.follower = self.follower.restarted();
         self.progress = Progress::default();
+        self.streamed_arc_m = 0.0;
+        self.tracking.forget_arcs();
         self.gating.restart();
         self.settling.restart();
         if matches!(self.phase, Phase::AtGoal) {
@@ -57,7 +59,7 @@ impl DroneRun {
     pub fn release_events(&mut self, ground_clear: bool) {
         self.membership.released = true;
         if ground_clear {
-            self.progress.reached = self.route.events.len();
+            self.progress.release_all(self.route.events.len());
         }
     }
 }

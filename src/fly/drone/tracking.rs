@@ -26,12 +26,22 @@ const HISTORY: Duration = Duration::from_secs(1);
 pub(super) struct Tracking {
     /// Distances from telemetry to the streamed setpoint, metres.
     errors_m: Vec<f64>,
-    /// Setpoints streamed in the last second, with when.
-    setpoint_history: VecDeque<(Instant, [f64; 3])>,
+    /// Setpoints streamed in the last second: when, where, and how far along the
+    /// route (plan setpoints only).
+    setpoint_history: VecDeque<Streamed>,
     /// Times its setpoint waited for the vehicle to come back within the tracking error.
     pub(super) holds: usize,
     /// Seconds its setpoint waited so.
     pub(super) hold_s: f64,
+}
+
+/// One setpoint streamed.
+#[derive(Debug, Clone, Copy)]
+struct Streamed {
+    at: Instant,
+    position_m: [f64; 3],
+    /// Arc length along the route flown then (`None` outside the plan).
+    arc_m: Option<f64>,
 }
 
 impl Tracking {
@@ -45,23 +55,28 @@ impl Tracking {
         }
     }
 
-    /// Remembers `last_setpoint`, streamed at `now`, and records the tracking error
-    /// of the newest sample in `telemetry` while the drone is `following` our
-    /// setpoints in the air and we can see it.
+    /// Remembers `last_setpoint`, streamed at `now` (`arc_m` along the route when
+    /// it is a plan setpoint), and records the tracking error of the newest sample
+    /// in `telemetry` while the drone is `following` our setpoints in the air and
+    /// we can see it.
     pub(super) fn sample(
         &mut self,
         now: Instant,
-        last_setpoint: Option<Setpoint>,
+        last_setpoint: Option<(Setpoint, Option<f64>)>,
         following: bool,
         telemetry: &Telemetry,
     ) {
-        if let Some(s) = last_setpoint {
-            self.setpoint_history.push_back((now, s.position_m));
+        if let Some((s, arc_m)) = last_setpoint {
+            self.setpoint_history.push_back(Streamed {
+                at: now,
+                position_m: s.position_m,
+                arc_m,
+            });
         }
         while self
             .setpoint_history
             .front()
-            .is_some_and(|(t, _)| now.duration_since(*t) > HISTORY)
+            .is_some_and(|s| now.duration_since(s.at) > HISTORY)
         {
             self.setpoint_history.pop_front();
         }
@@ -76,15 +91,32 @@ impl Tracking {
     /// Distance from the newest position sample to the setpoint streamed last before
     /// it arrived (the oldest remembered one if it is older still), metres.
     pub(super) fn distance_m(&self, telemetry: &Telemetry) -> Option<f64> {
-        let (p, received) = (telemetry.position_m?, telemetry.position_received?);
-        let setpoint = self
-            .setpoint_history
+        let p = telemetry.position_m?;
+        Some(distance_m(p, self.compared_with(telemetry)?.position_m))
+    }
+
+    /// The route's arc length at the setpoint the newest sample is compared with
+    /// (see [`Tracking::distance_m`]), if that was a plan setpoint.
+    pub(super) fn compared_arc_m(&self, telemetry: &Telemetry) -> Option<f64> {
+        self.compared_with(telemetry)?.arc_m
+    }
+
+    /// The setpoint streamed last before the newest sample arrived (the oldest
+    /// remembered one if it is older still).
+    fn compared_with(&self, telemetry: &Telemetry) -> Option<&Streamed> {
+        let received = telemetry.position_received?;
+        self.setpoint_history
             .iter()
             .rev()
-            .find(|(t, _)| *t <= received)
-            .or(self.setpoint_history.front())?
-            .1;
-        Some(distance_m(p, setpoint))
+            .find(|s| s.at <= received)
+            .or(self.setpoint_history.front())
+    }
+
+    /// A new route (a replan's): arc lengths along the old one mean nothing on it.
+    pub(super) fn forget_arcs(&mut self) {
+        for s in &mut self.setpoint_history {
+            s.arc_m = None;
+        }
     }
 
     /// Median, 95th percentile and maximum of the recorded tracking error (`None`

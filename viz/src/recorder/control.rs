@@ -1,5 +1,5 @@
 //! What goes through the recorder's control channel: rarely, events, the
-//! plan's start and the end. Samples take the cheaper buffer in `samples`.
+//! plan's start, the lateness known once a flight is over, and the end. Samples take the cheaper buffer in `samples`.
 
 /// Control messages queued at most (events are rare).
 pub(super) const CONTROL_CAPACITY: usize = 1024;
@@ -10,6 +10,8 @@ pub(super) enum Message {
     Event(Box<Event>),
     /// Plan execution began at this flight time: log the plan on the flight timeline.
     PlanStart(f64),
+    /// One drone's lateness: `(flight time, seconds late)` at each event it reached.
+    Lateness(Box<(String, Vec<(f64, f64)>)>),
     /// Log what is queued before this, flush and stop (handles may still exist).
     Finish,
 }

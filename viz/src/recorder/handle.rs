@@ -109,6 +109,13 @@ impl RecorderHandle {
     pub fn plan_start_blocking(&self, t_s: f64) -> Result<(), VizError> {
         self.send_blocking(Message::PlanStart(t_s))
     }
+
+    /// Drone `drone`'s lateness against the schedule, `(flight time, seconds
+    /// late)` at each event it reached, as one series; waits for room (the flight
+    /// log has it only once the flight is over).
+    pub fn lateness_blocking(&self, drone: &str, series: Vec<(f64, f64)>) -> Result<(), VizError> {
+        self.send_blocking(Message::Lateness(Box::new((drone.to_string(), series))))
+    }
 }
 
 /// The control message for a text event.

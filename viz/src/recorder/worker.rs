@@ -121,6 +121,11 @@ impl Worker {
         match message {
             Message::Event(e) => self.event(e.t_s, e.drone.as_deref(), &e.text),
             Message::PlanStart(t_s) => self.plan_start(t_s),
+            Message::Lateness(drone_series) => {
+                let (drone, series) = *drone_series;
+                let entity = paths::lateness("flight", &drone);
+                swarm::send_series(&self.rec, &entity, &self.axis, &series)
+            }
             Message::Finish => Ok(()),
         }
     }

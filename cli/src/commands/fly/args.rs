@@ -87,6 +87,17 @@ pub struct Args {
     /// With --via zenoh: seconds to wait for relays to announce every drone.
     #[arg(long, value_name = "SECONDS", default_value_t = 30.0)]
     pub(super) relay_wait: f64,
+    /// Start the plan at this instant, so the flight keeps time with music, a
+    /// camera or another system: `+SECONDS` from now, a UTC instant
+    /// (`2026-12-05T20:30:00Z`) or a UTC time of day today (`20:30:00`). The swarm
+    /// arms `--takeoff-lead` seconds before it and hovers above its pads until
+    /// then; a swarm that cannot be ready by then is refused before takeoff.
+    #[arg(long, value_name = "TIME")]
+    pub(super) start_at: Option<String>,
+    /// With --start-at: seconds before the start instant the swarm arms and
+    /// takes off (pre-flight must have passed by then).
+    #[arg(long, value_name = "SECONDS", default_value_t = fly::StartAt::DEFAULT_TAKEOFF_LEAD.as_secs_f64())]
+    pub(super) takeoff_lead: f64,
     /// Where the Rerun recording goes (default: beside the flight log).
     #[command(flatten)]
     pub(super) viewer: swarmctl_cli::record::ViewerArgs,
@@ -102,6 +113,8 @@ pub(super) struct Durations {
     pub(super) ready: Option<std::time::Duration>,
     /// `--replan-deadline`.
     pub(super) replan_deadline: std::time::Duration,
+    /// `--start-at` with `--takeoff-lead`, if given.
+    pub(super) start_at: Option<fly::StartAt>,
 }
 
 /// Refuses flags no flight can use, before anything is planned, started or
@@ -132,9 +145,24 @@ pub(super) fn check_args(args: &Args) -> anyhow::Result<Durations> {
             args.relay_wait
         );
     }
+    let takeoff_lead = seconds(args.takeoff_lead).with_context(|| {
+        format!(
+            "--takeoff-lead must be a non-negative number of seconds, got {}",
+            args.takeoff_lead
+        )
+    })?;
+    let start_at = match &args.start_at {
+        Some(text) => {
+            let at = super::start_instant::parse(text, std::time::SystemTime::now())
+                .map_err(|why| anyhow::anyhow!("--start-at {why}"))?;
+            Some(fly::StartAt { at, takeoff_lead })
+        }
+        None => None,
+    };
     Ok(Durations {
         ready,
         replan_deadline,
+        start_at,
     })
 }
 

@@ -12,6 +12,7 @@ mod bundled_sitl;
 mod plan_source;
 mod recording;
 mod report;
+mod start_instant;
 mod vehicles;
 
 pub use args::Args;
@@ -117,6 +118,7 @@ async fn fly_async(
         .unwrap_or(std::time::Duration::from_secs(if bundled { 5 } else { 60 }));
     options.frames = frame_source(args);
     options.start_tolerance_m = args.pad_tolerance;
+    options.start_at = durations.start_at;
     options.replan = fly::ReplanOptions {
         enabled: !args.no_replan,
         deadline: durations.replan_deadline,

@@ -46,6 +46,17 @@ pub(super) fn print_report(mission: &Mission, log: &fly::FlightLog, path: &Path)
     for line in log.summary.lines() {
         println!("{line}");
     }
+    if let Some(at_s) = log.start_at_unix_s {
+        let asked = std::time::UNIX_EPOCH + std::time::Duration::from_secs_f64(at_s.max(0.0));
+        let started = match fly::plan_start_delay_s(log) {
+            Some(delay_s) => format!("plan time 0 came {delay_s:.3} s after it"),
+            None => "the plan never started".to_string(),
+        };
+        println!(
+            "  start instant        {}: {started}",
+            humantime::format_rfc3339_millis(asked)
+        );
+    }
     for e in &log.events {
         println!(
             "  event {:6.1} s {}{}",
