@@ -59,10 +59,14 @@ pub enum HarnessError {
     /// be shut down (and its sockets would outlive the run).
     #[error("the swarm is still shared after the flight")]
     SwarmStillShared,
-    /// A timing flight failed before takeoff or never finished: there is no
-    /// execution to time (the text names the mission and why).
-    #[error("{0}")]
-    Flight(String),
+    /// A timing flight did not finish within its limit: there is no execution to time.
+    #[error("{mission}: the flight did not finish within {limit_s:.0} s")]
+    FlightUnfinished {
+        /// The mission flown.
+        mission: String,
+        /// The limit it was given, seconds.
+        limit_s: f64,
+    },
     /// A scenario names a fault `--fault` would refuse.
     #[error(transparent)]
     Fault {
@@ -115,7 +119,7 @@ pub enum HarnessError {
         #[from]
         source: swarmctl_relay::RelayError,
     },
-    /// A flight through relays failed before takeoff.
+    /// A flight (through relays, or timed) failed before takeoff.
     #[error(transparent)]
     Flight {
         /// Why the flight was refused.

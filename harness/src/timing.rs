@@ -10,7 +10,7 @@ use crate::HarnessError;
 use crate::stats::median;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
-use swarmctl::fly::{self, FlightLog, FlyError};
+use swarmctl::fly::{self, FlightLog};
 use swarmctl::mission::Mission;
 use swarmctl::plan::{self, DiscretePlan};
 use swarmctl_sitl::{Swarm, truth};
@@ -116,26 +116,16 @@ async fn fly_once(
     };
     let (result, (min_m, max_speed_mps)) = tokio::join!(flight, watch(&swarm, &done));
     swarm.shutdown().await;
-    let log = match result {
-        Ok(Ok(log)) => log,
-        Ok(Err(e)) => return Err(HarnessError::Flight(flight_error(mission, e))),
-        Err(_) => {
-            return Err(HarnessError::Flight(format!(
-                "{}: did not finish within {limit:?}",
-                mission.name
-            )));
-        }
-    };
+    let log = result.map_err(|_| HarnessError::FlightUnfinished {
+        mission: mission.name.clone(),
+        limit_s: limit.as_secs_f64(),
+    })??;
     Ok(TimingFlight {
         executed_s: log.summary.executed_makespan_s,
         log,
         truth_min_separation_m: min_m,
         truth_max_speed_mps: max_speed_mps,
     })
-}
-
-fn flight_error(mission: &Mission, e: FlyError) -> String {
-    format!("{}: {e}", mission.name)
 }
 
 /// Samples the simulator's true positions and velocities at 50 Hz until `done`:

@@ -105,11 +105,6 @@ impl Progress {
         }
     }
 
-    /// When event `index` was observed reached, plan-clock seconds.
-    pub fn reached_at_s(&self, index: u32) -> Option<f64> {
-        self.reached_at_s.get(index as usize).copied()
-    }
-
     /// True once event `index` no longer holds anyone up.
     pub fn has_released(&self, index: u32) -> bool {
         (index as usize) < self.released

@@ -150,22 +150,7 @@ pub async fn fly_checked(
             DroneRun::new(i, route, vehicle, follower, commands.clone())
         })
         .collect();
-    let settings = LoopSettings {
-        setpoint_rate_hz: mission.link.setpoint_rate_hz,
-        link_timeout_s: mission.link.link_timeout_s,
-        lost_after_s: mission.link.lost_after_s,
-        limits: commanded.kinematics(),
-        tracking_error_m: l.tracking_error_m,
-        settle_tolerance_m: settle_tolerance_m(options.settle_tolerance_m, l.tracking_error_m),
-        execution_timeout_s: options.timeout_factor * planned_makespan_s
-            + settings::TIMEOUT_MARGIN_S,
-        timeout_factor: options.timeout_factor,
-        safety_distance_m: l.safety_distance_m,
-        ellipsoid: l.is_ellipsoid().then(|| l.separation()),
-        // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
-        ground_clear: mission.pad_height_m() >= l.safety_distance_m,
-        plan_start: options.start_at.map(|s| s.instant()),
-    };
+    let settings = loop_settings(mission, options, planned_makespan_s);
     let replanner = replan::Replanner::new(
         options.replan,
         mission.clone(),
@@ -202,6 +187,28 @@ pub async fn fly_checked(
         armed_at_unix_s: Some(armed_at_unix_s),
         start_at_unix_s: options.start_at.map(|s| start_at::unix_s(s.at)),
     })
+}
+
+/// The flight loop's tunables, from the mission and the fly options.
+fn loop_settings(mission: &Mission, options: &FlyOptions, planned_makespan_s: f64) -> LoopSettings {
+    let l = &mission.limits;
+    let commanded = mission.commanded_limits();
+    LoopSettings {
+        setpoint_rate_hz: mission.link.setpoint_rate_hz,
+        link_timeout_s: mission.link.link_timeout_s,
+        lost_after_s: mission.link.lost_after_s,
+        limits: commanded.kinematics(),
+        tracking_error_m: l.tracking_error_m,
+        settle_tolerance_m: settle_tolerance_m(options.settle_tolerance_m, l.tracking_error_m),
+        execution_timeout_s: options.timeout_factor * planned_makespan_s
+            + settings::TIMEOUT_MARGIN_S,
+        timeout_factor: options.timeout_factor,
+        safety_distance_m: l.safety_distance_m,
+        ellipsoid: l.is_ellipsoid().then(|| l.separation()),
+        // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
+        ground_clear: mission.pad_height_m() >= l.safety_distance_m,
+        plan_start: options.start_at.map(|s| s.instant()),
+    }
 }
 
 /// The checked plan's routes, if it was checked for `mission` and there is a
