@@ -13,7 +13,8 @@
 //! drone stopped mid-run by a gate resumes with a fresh rest-to-rest profile over
 //! the rest of the run.
 
-use super::path::Route;
+use super::gate::GateAhead;
+use super::path::{Route, RouteRun};
 use crate::profile::{Brake, Kinematics, Profile, State};
 
 /// Stop this far short of a closed gate's marker.
@@ -177,6 +178,43 @@ impl Follower {
         matches!(self.motion, Motion::Rest { .. })
     }
 
+    /// The latest plan-clock time the setpoint passes `arc_m` along `route`, if it
+    /// is committed to: on the current run and no further than braking now would
+    /// stop. Braking now is the slowest the setpoint can go from here (a gate, a
+    /// halt or a pause brakes from the last validated state, and a profile flown on
+    /// and braked later is ahead of it at every moment), so it passes `arc_m` by
+    /// then whatever happens; `None` when at rest short of it or past where it
+    /// could stop.
+    pub fn latest_pass_s(&self, route: &Route, arc_m: f64, t_s: f64) -> Option<f64> {
+        let run = route.runs.get(self.run)?;
+        let x_m = arc_m - run.arc_start_m;
+        let (brake, t0_s) = match self.motion {
+            Motion::Rest { x_m: at_m } => return (x_m <= at_m).then_some(t_s),
+            Motion::Moving { .. } => {
+                let t_brake = t_s.min(self.validated_until_s);
+                (Brake::new(self.state_at(t_brake), self.limits), t_brake)
+            }
+            Motion::Braking { brake, t0_s } => (brake, t0_s),
+        };
+        if x_m > brake.stop_m() {
+            return None;
+        }
+        // Position only grows along a brake: bisect to a microsecond.
+        let (mut lo, mut hi) = (0.0, brake.duration_s());
+        if brake.state_at(0.0).x_m >= x_m {
+            return Some(t0_s);
+        }
+        while hi - lo > 1e-6 {
+            let mid = 0.5 * (lo + hi);
+            if brake.state_at(mid).x_m < x_m {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(t0_s + hi)
+    }
+
     /// Position along the current run, speed and acceleration at `t_s`, for the
     /// current motion.
     fn state_at(&self, t_s: f64) -> State {
@@ -199,8 +237,11 @@ impl Follower {
 
     /// Advances the commanded motion to mission time `t_s` and returns the setpoint.
     ///
-    /// `gate_arc_m` is the arc length of the first closed gate ahead (∞ if none);
-    /// `settled` says the drone's telemetry is at its commanded rest point, which a
+    /// `gate` gives the closed gates ahead: the drone stops short of the first
+    /// unless every closed gate before `gate.hard_arc_m` opens by
+    /// `gate.opens_by_s` and its setpoint, on its present motion, reaches the first
+    /// no earlier than that (it can only be slower: see [`Follower::latest_pass_s`]
+    /// for the other side); `settled` says the drone's telemetry is at its commanded rest point, which a
     /// new run requires so a lagging drone never has its target run away from it.
     /// `dt_s` is the setpoint period: braking is decided one period ahead.
     pub fn step(
@@ -208,10 +249,9 @@ impl Follower {
         route: &Route,
         t_s: f64,
         dt_s: f64,
-        gate_arc_m: f64,
+        gate: GateAhead,
         settled: bool,
     ) -> Setpoint {
-        let a = self.limits.max_accel_mps2;
         // Held last tick by something this tick's observations cleared (a gate, the
         // vehicle settling or straying, a pause): a run starts now. Otherwise it was
         // only due (its scheduled start, or the end of the motion before it) at some
@@ -223,30 +263,15 @@ impl Follower {
                 self.hold = Hold::None;
                 break;
             };
-            let limit_x_m = gate_arc_m - run.arc_start_m - STOP_MARGIN_M;
+            let limit_x_m = gate.arc_m - run.arc_start_m - STOP_MARGIN_M;
+            let hard_limit_x_m = gate.hard_arc_m - run.arc_start_m - STOP_MARGIN_M;
+            let gate_x_m = gate.arc_m - run.arc_start_m;
             match self.motion {
                 Motion::Rest { x_m } => {
                     if x_m >= run.length_m - 1e-9 {
                         self.run += 1;
                         self.motion = Motion::Rest { x_m: 0.0 };
                         continue;
-                    }
-                    self.hold = if self.halted || self.paused {
-                        Hold::Gate
-                    } else if self.tracking_hold {
-                        Hold::Tracking
-                    } else if x_m <= 0.0 && t_s < run.scheduled_start_s {
-                        Hold::Schedule
-                    } else if !settled {
-                        Hold::Settling
-                    } else if limit_x_m - x_m < a * dt_s * dt_s + 1e-9 {
-                        // Starting would already need braking within one period.
-                        Hold::Gate
-                    } else {
-                        Hold::None
-                    };
-                    if self.hold != Hold::None {
-                        break;
                     }
                     let t0_s = if held_by_observation {
                         t_s
@@ -258,6 +283,10 @@ impl Follower {
                         };
                         start_s(t_s, dt_s, due_s.max(self.rest_since_s))
                     };
+                    self.hold = self.start_hold(run, x_m, (t_s, t0_s, dt_s), gate, settled);
+                    if self.hold != Hold::None {
+                        break;
+                    }
                     self.motion = Motion::Moving {
                         x0_m: x_m,
                         profile: Profile::new(run.length_m - x_m, self.limits),
@@ -279,7 +308,18 @@ impl Follower {
                         continue;
                     }
                     let stop_next_m = Brake::new(self.state_at(t_s + dt_s), self.limits).stop_m();
-                    if self.halted || self.paused || self.tracking_hold || stop_next_m > limit_x_m {
+                    // Past the point where it could still stop before the first gate,
+                    // it flies on only if it reaches that gate after it opens.
+                    let too_early = stop_next_m > limit_x_m
+                        && !(gate_x_m <= x0_m + profile.length_m
+                            && t0_s + profile.time_at_distance_s(gate_x_m - x0_m)
+                                >= gate.opens_by_s);
+                    if self.halted
+                        || self.paused
+                        || self.tracking_hold
+                        || stop_next_m > hard_limit_x_m
+                        || too_early
+                    {
                         // Braking from any earlier state stops no later (the stop point
                         // only grows along a profile), so the last validated time is safe.
                         let t_brake = t_s.min(self.validated_until_s);
@@ -306,6 +346,46 @@ impl Follower {
             }
         }
         self.setpoint(route, t_s)
+    }
+
+    /// Why a run cannot start at tick `t_s` from rest `x_m` along `run` (its profile
+    /// would begin at `t0_s`, `dt_s` being the period), or [`Hold::None`].
+    fn start_hold(
+        &self,
+        run: &RouteRun,
+        x_m: f64,
+        (t_s, t0_s, dt_s): (f64, f64, f64),
+        gate: GateAhead,
+        settled: bool,
+    ) -> Hold {
+        // Starting would already need braking within one period.
+        let no_room = |gate_arc_m: f64| {
+            gate_arc_m - run.arc_start_m - STOP_MARGIN_M - x_m
+                < self.limits.max_accel_mps2 * dt_s * dt_s + 1e-9
+        };
+        let gate_x_m = gate.arc_m - run.arc_start_m;
+        if self.halted || self.paused {
+            Hold::Gate
+        } else if self.tracking_hold {
+            Hold::Tracking
+        } else if x_m <= 0.0 && t_s < run.scheduled_start_s {
+            Hold::Schedule
+        } else if !settled {
+            Hold::Settling
+        } else if no_room(gate.hard_arc_m) {
+            Hold::Gate
+        } else if no_room(gate.arc_m)
+            && !(gate_x_m <= run.length_m
+                && t0_s
+                    + Profile::new(run.length_m - x_m, self.limits)
+                        .time_at_distance_s(gate_x_m - x_m)
+                    >= gate.opens_by_s)
+        {
+            // Committed gates ahead, but it would reach them before they open.
+            Hold::Gate
+        } else {
+            Hold::None
+        }
     }
 
     /// The commanded position and velocity at `t_s`, and the acceleration of the
@@ -397,7 +477,7 @@ mod tests {
         let mut last_a = 0.0;
         for k in 0..=(((4.0 * one + 1.2) / dt_s) as usize) {
             let t_s = k as f64 * dt_s;
-            let s = f.step(&r, t_s, dt_s, f64::INFINITY, true);
+            let s = f.step(&r, t_s, dt_s, GateAhead::OPEN, true);
             let scheduled = r.scheduled_arc_m(t_s);
             let flown = f.arc_m(&r, t_s);
             assert!(
@@ -424,14 +504,74 @@ mod tests {
         let mut f = Follower::new(LIMITS, 0.0);
         for k in 0..10 {
             let t_s = k as f64 * dt_s;
-            f.step(&r, t_s, dt_s, 0.005, true);
+            f.step(&r, t_s, dt_s, GateAhead::closed_at(0.005), true);
             assert_eq!(f.arc_m(&r, t_s), 0.0);
             assert_eq!(f.hold, Hold::Gate);
         }
         let t_s = 10.0 * dt_s;
-        f.step(&r, t_s, dt_s, f64::INFINITY, true);
+        f.step(&r, t_s, dt_s, GateAhead::OPEN, true);
         assert_eq!(f.arc_m(&r, t_s), 0.0, "starts at this tick, from rest");
         let later = f.arc_m(&r, t_s + dt_s);
         assert!(later > 0.0);
+    }
+
+    /// A gate mid-run whose predecessor is committed to open it in time is flown
+    /// through at speed; one that would open after the drone reached it is not
+    /// reached before it opens, and one not committed at all is stopped short of.
+    #[test]
+    fn a_committed_gate_is_flown_through_only_if_it_opens_before_the_drone_arrives() {
+        let r = route(&[(4.0, 0.0)]);
+        let gate_at_m = 2.0;
+        let arrival_s = r.runs[0].profile.time_at_distance_s(gate_at_m);
+        let dt_s = 0.05;
+        // The plan-clock time the setpoint first reached the gate (∞: never).
+        let reached_s = |opens_by_s: f64, hard_arc_m: f64| {
+            let gate = GateAhead {
+                arc_m: gate_at_m,
+                hard_arc_m,
+                opens_by_s,
+            };
+            let mut f = Follower::new(LIMITS, 0.0);
+            for k in 0..200 {
+                let t_s = k as f64 * dt_s;
+                f.step(&r, t_s, dt_s, gate, true);
+                if f.arc_m(&r, t_s) >= gate_at_m {
+                    return t_s;
+                }
+            }
+            f64::INFINITY
+        };
+        let through_s = reached_s(arrival_s - 0.1, f64::INFINITY);
+        assert!((through_s - arrival_s).abs() <= dt_s, "through at speed");
+        let late_s = reached_s(arrival_s + 0.5, f64::INFINITY);
+        assert!(
+            late_s.is_finite() && late_s >= arrival_s + 0.5,
+            "waited: {late_s}"
+        );
+        assert!(
+            reached_s(arrival_s - 0.1, gate_at_m).is_infinite(),
+            "not committed"
+        );
+    }
+
+    /// The latest time a moving setpoint passes a point is where braking now
+    /// would pass it: never before the planned profile passes it, and nothing
+    /// beyond where braking now would stop is promised.
+    #[test]
+    fn braking_now_is_the_latest_a_setpoint_passes() {
+        let r = route(&[(4.0, 0.0)]);
+        let mut f = Follower::new(LIMITS, 0.0);
+        let dt_s = 0.05;
+        for k in 0..=20 {
+            f.step(&r, k as f64 * dt_s, dt_s, GateAhead::OPEN, true);
+        }
+        let t_s = 1.0;
+        let here_m = f.arc_m(&r, t_s);
+        let stop_m = Brake::new(f.state_at(t_s), LIMITS).stop_m();
+        let ahead_m = 0.5 * (here_m + stop_m);
+        let latest_s = f.latest_pass_s(&r, ahead_m, t_s).expect("committed");
+        assert!(latest_s >= r.runs[0].profile.time_at_distance_s(ahead_m) - 1e-9);
+        assert!(f.latest_pass_s(&r, stop_m + 0.01, t_s).is_none());
+        assert_eq!(f.latest_pass_s(&r, here_m - 0.1, t_s), Some(t_s));
     }
 }

@@ -13,7 +13,6 @@
 //! and a drone whose link is lost holds them up until it is heard again.
 
 use super::path::Route;
-use crate::schedule::EventId;
 
 /// Telemetry within this distance short of an event counts as reaching it.
 pub const REACH_TOLERANCE_M: f64 = 0.03;
@@ -25,6 +24,10 @@ pub struct Progress {
     pub reached: usize,
     /// Events `0..released` no longer hold anyone up (`released ≥ reached`).
     pub released: usize,
+    /// When each of the events `released..released + committed.len()` will have
+    /// been passed by the drone's setpoint at the latest, plan-clock seconds: its
+    /// setpoint is committed to pass them (see [`Progress::commit`]).
+    pub committed_by_s: Vec<f64>,
     /// When each of the events `0..released` was released, plan-clock seconds.
     pub released_at_s: Vec<f64>,
     /// The run the telemetry is on (advances only when its end is observed).
@@ -92,6 +95,39 @@ impl Progress {
         self.release_to(self.released + passed, t_s);
     }
 
+    /// Records by when the setpoint will have passed the events it is committed to:
+    /// `latest_pass_s(arc)` is the latest plan-clock time the setpoint passes `arc`
+    /// whatever it does next (braking now is the slowest it can go), `None` past
+    /// where it could stop. The caller vouches the vehicle is trusted, as for
+    /// [`Progress::release_commanded`]; `clear` forgets every commitment.
+    pub fn commit(&mut self, route: &Route, latest_pass_s: impl Fn(f64) -> Option<f64>) {
+        self.committed_by_s.clear();
+        for e in route.events.iter().skip(self.released) {
+            match latest_pass_s(e.arc_m) {
+                Some(t_s) => self.committed_by_s.push(t_s),
+                None => break,
+            }
+        }
+    }
+
+    /// Forgets every commitment (the vehicle is not trusted right now).
+    pub fn clear_commitments(&mut self) {
+        self.committed_by_s.clear();
+    }
+
+    /// By when event `index`'s drone will have passed it at the latest, if its
+    /// setpoint is committed to (∞ when not, −∞ once released).
+    fn passed_by_s(&self, index: u32) -> f64 {
+        let i = index as usize;
+        if i < self.released {
+            return f64::NEG_INFINITY;
+        }
+        self.committed_by_s
+            .get(i - self.released)
+            .copied()
+            .unwrap_or(f64::INFINITY)
+    }
+
     /// Every event of the route released (a retired drone that is down and out
     /// of everyone's way); no release times are recorded.
     pub fn release_all(&mut self, events: usize) {
@@ -102,12 +138,10 @@ impl Progress {
         while self.released < count {
             self.released += 1;
             self.released_at_s.push(t_s);
+            if !self.committed_by_s.is_empty() {
+                self.committed_by_s.remove(0);
+            }
         }
-    }
-
-    /// True once event `index` no longer holds anyone up.
-    pub fn has_released(&self, index: u32) -> bool {
-        (index as usize) < self.released
     }
 
     /// When event `index` was released, plan-clock seconds.
@@ -116,17 +150,53 @@ impl Progress {
     }
 }
 
-/// Arc length of the first event ahead of `commanded_arc_m` whose predecessors are
-/// not all released, or released less than its hold ago at plan-clock time `t_s`
-/// (∞ if none), and the drone it waits for. `passed` counts the events already
-/// behind the commanded position (kept by the caller, monotone).
+/// The closed gates ahead of a drone, as its follower needs them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GateAhead {
+    /// Arc length of the first closed gate (∞ if none).
+    pub arc_m: f64,
+    /// Arc length of the first closed gate not known to open in time: every closed
+    /// gate before it has predecessors whose setpoints are committed to pass them
+    /// (∞ if none; `arc_m` when the first one is not).
+    pub hard_arc_m: f64,
+    /// By when the closed gates before `hard_arc_m` will all have opened at the
+    /// latest, plan-clock seconds (−∞ when there are none).
+    pub opens_by_s: f64,
+}
+
+impl GateAhead {
+    /// No closed gate ahead.
+    pub const OPEN: Self = Self {
+        arc_m: f64::INFINITY,
+        hard_arc_m: f64::INFINITY,
+        opens_by_s: f64::NEG_INFINITY,
+    };
+
+    /// One closed gate at `arc_m`, not known to open (tests).
+    #[cfg(test)]
+    pub fn closed_at(arc_m: f64) -> Self {
+        Self {
+            arc_m,
+            hard_arc_m: arc_m,
+            opens_by_s: f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// The closed gates ahead of `commanded_arc_m` at plan-clock time `t_s` (events
+/// whose predecessors are not all released, or released less than its hold ago),
+/// and the drone the first waits for. Gates whose predecessors are committed to
+/// pass (see [`Progress::commit`]) are told apart up to the first that is not, so
+/// the follower may fly through them if it reaches them no earlier than they open.
+/// `passed` counts the events already behind the commanded position (kept by the
+/// caller, monotone).
 pub fn closed_gate(
     route: &Route,
     passed: &mut usize,
     all: &[Progress],
     commanded_arc_m: f64,
     t_s: f64,
-) -> (f64, Option<u32>) {
+) -> (GateAhead, Option<u32>) {
     const PASSED_EPS_M: f64 = 1e-6;
     while let Some(e) = route.events.get(*passed) {
         if e.arc_m < commanded_arc_m - PASSED_EPS_M {
@@ -135,11 +205,21 @@ pub fn closed_gate(
             break;
         }
     }
+    let mut ahead = GateAhead::OPEN;
+    let mut first_blocker = None;
     for e in &route.events[*passed..] {
-        if let Some(blocker) = e.after.iter().find(|id| !is_released(all, **id)) {
-            return (e.arc_m, Some(blocker.drone));
+        let mut closed_by = None;
+        let mut opens_by_s = f64::NEG_INFINITY;
+        for id in &e.after {
+            let by_s = all
+                .get(id.drone as usize)
+                .map_or(f64::INFINITY, |p| p.passed_by_s(id.index));
+            if by_s > f64::NEG_INFINITY {
+                closed_by.get_or_insert(id.drone);
+                opens_by_s = opens_by_s.max(by_s);
+            }
         }
-        if e.hold_s > 0.0 {
+        if closed_by.is_none() && e.hold_s > 0.0 {
             // The whole swarm is in formation: hold it for `hold_s` after the last
             // of them arrived (released its arrival).
             let last = e
@@ -150,22 +230,33 @@ pub fn closed_gate(
             if let Some((at_s, id)) = last
                 && t_s < at_s + e.hold_s
             {
-                return (e.arc_m, Some(id.drone));
+                closed_by = Some(id.drone);
+                opens_by_s = f64::INFINITY;
             }
         }
+        let Some(blocker) = closed_by else {
+            continue;
+        };
+        if first_blocker.is_none() {
+            first_blocker = Some(blocker);
+            ahead.arc_m = e.arc_m;
+        }
+        // A hold is never committed: its drones' arrivals are not enough.
+        if opens_by_s.is_finite() && e.hold_s <= 0.0 {
+            ahead.opens_by_s = ahead.opens_by_s.max(opens_by_s);
+        } else {
+            ahead.hard_arc_m = e.arc_m;
+            break;
+        }
     }
-    (f64::INFINITY, None)
-}
-
-fn is_released(all: &[Progress], id: EventId) -> bool {
-    all.get(id.drone as usize)
-        .is_some_and(|p| p.has_released(id.index))
+    (ahead, first_blocker)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::fly::path::RouteEvent;
+    use crate::schedule::EventId;
 
     fn route(events: Vec<RouteEvent>) -> Route {
         Route {
@@ -268,6 +359,42 @@ mod tests {
         assert_eq!(all[1].released, 1);
     }
 
+    /// A predecessor committed to pass its event tells the gate by when it opens;
+    /// the first gate whose predecessor is not committed is where the drone must
+    /// be able to stop.
+    #[test]
+    fn committed_predecessors_say_by_when_their_gates_open() {
+        let event = |arc_m: f64, after: Vec<EventId>| RouteEvent {
+            kind: crate::schedule::EventKind::Enter,
+            voxel: crate::world::Voxel::new(0, 0, 0),
+            step: 0,
+            position_m: [arc_m, 0.0, 0.0],
+            arc_m,
+            reach_s: 0.0,
+            after,
+            hold_s: 0.0,
+        };
+        let a = |index: u32| EventId { drone: 1, index };
+        let waiter = route(vec![event(0.5, vec![a(0)]), event(1.5, vec![a(1)])]);
+        let leader = route(vec![event(1.0, vec![]), event(2.0, vec![])]);
+        let mut all = vec![Progress::default(), Progress::default()];
+        let mut passed = 0;
+        let (gate, blocker) = closed_gate(&waiter, &mut passed, &all, 0.0, 0.0);
+        assert_eq!((gate, blocker), (GateAhead::closed_at(0.5), Some(1)));
+        // Committed to pass its first event by 3 s, not its second.
+        all[1].commit(&leader, |arc_m| (arc_m <= 1.2).then_some(3.0));
+        let (gate, _) = closed_gate(&waiter, &mut passed, &all, 0.0, 0.0);
+        assert_eq!(
+            (gate.arc_m, gate.hard_arc_m, gate.opens_by_s),
+            (0.5, 1.5, 3.0)
+        );
+        // Released: the committed time moves on with it; the second gate is first.
+        all[1].release_commanded(&leader, 1.0, 2.5);
+        assert!(all[1].committed_by_s.is_empty());
+        let (gate, _) = closed_gate(&waiter, &mut passed, &all, 0.0, 2.5);
+        assert_eq!(gate, GateAhead::closed_at(1.5));
+    }
+
     #[test]
     fn a_hold_keeps_the_gate_closed_until_it_has_passed_since_the_last_arrival() {
         let other = EventId { drone: 1, index: 0 };
@@ -284,10 +411,16 @@ mod tests {
         let mut all = vec![Progress::default(), Progress::default()];
         let mut passed = 0;
         // Not reached yet: closed, waiting for drone 1.
-        assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 5.0), (0.0, Some(1)));
+        assert_eq!(
+            closed_gate(&r, &mut passed, &all, 0.0, 5.0),
+            (GateAhead::closed_at(0.0), Some(1))
+        );
         all[1].released = 1;
         all[1].released_at_s = vec![5.0];
-        assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 6.9), (0.0, Some(1)));
+        assert_eq!(
+            closed_gate(&r, &mut passed, &all, 0.0, 6.9),
+            (GateAhead::closed_at(0.0), Some(1))
+        );
         assert_eq!(closed_gate(&r, &mut passed, &all, 0.0, 7.0).1, None);
     }
 }

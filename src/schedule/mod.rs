@@ -110,6 +110,19 @@
 //! would add the telemetry latency and the vehicle's lag to every zero-slack
 //! precedence, and along a chain of dependants those delays add up.
 //!
+//! *Flying through a gate that is about to open.* A follower decides to brake a
+//! stopping distance ahead of a closed gate, so a drone whose predecessor passes
+//! on time would still brake for every precedence with no slack. Its predecessor's
+//! setpoint is *committed* to an event when braking now would still carry it past
+//! (the slowest it can go: every brake starts from a validated state, and a
+//! profile flown on and braked later is ahead of braking now at every moment), and
+//! braking now gives the latest time `T` it passes. While the predecessor's vehicle
+//! is trusted as above, the dependant may fly past the point where it could still
+//! stop before its own event if, on its present motion, its setpoint reaches the
+//! event no earlier than `T` (it can only be slower than that motion). The
+//! setpoints then keep the order the argument needs; a gate whose predecessor is
+//! not committed, or a stage's hold, is still one to stop short of.
+//!
 //! **Ellipsoids.** Downwash reaches further below a drone than beside it, so a mission
 //! may separate drones by an axis-aligned ellipsoid instead (`limits.separation`:
 //! horizontal radius `H`, vertical `V`; see [`crate::world::Separation`]). The schedule

@@ -86,6 +86,8 @@ pub struct DroneRun {
     progress: Progress,
     /// Arc length of the plan setpoint streamed last (see `plan::observe_progress`).
     streamed_arc_m: f64,
+    /// Its vehicle was trusted on its setpoint at this tick's observation.
+    trusted_now: bool,
     /// Every event telemetry showed it reach, against the schedule.
     lateness: Vec<EventLateness>,
     phase: Phase,
@@ -132,6 +134,7 @@ impl DroneRun {
             follower,
             progress: Progress::default(),
             streamed_arc_m: 0.0,
+            trusted_now: false,
             lateness: Vec::new(),
             phase,
             telemetry: Telemetry::new(),

@@ -33,6 +33,7 @@ impl DroneRun {
             self.phase,
             Phase::Flying | Phase::AtGoal | Phase::Retiring { .. }
         );
+        self.trusted_now = false;
         if !observed || self.telemetry.link_lost || self.telemetry.stale {
             return;
         }
@@ -61,7 +62,8 @@ impl DroneRun {
                 flight_s: since_arm_s,
             });
         }
-        if self.trusted(settings, now)
+        self.trusted_now = self.trusted(settings, now);
+        if self.trusted_now
             && let Some(arc_m) = self.tracking.compared_arc_m(&self.telemetry)
         {
             self.progress.release_commanded(&self.route, arc_m, t_s);
@@ -112,6 +114,7 @@ impl DroneRun {
     /// done and telemetry has settled there.
     pub fn step_plan(&mut self, settings: &LoopSettings, tick: SwarmTick, progress: &[Progress]) {
         if !matches!(self.phase, Phase::Flying) && !self.phase.retiring_on_our_setpoints() {
+            self.progress.clear_commitments();
             return;
         }
         let SwarmTick {
@@ -124,7 +127,7 @@ impl DroneRun {
             self.follower.halt();
         }
         let arc = self.follower.arc_m(&self.route, t_s);
-        let (gate_arc_m, blocker) = closed_gate(
+        let (gate, blocker) = closed_gate(
             &self.route,
             &mut self.gating.passed_events,
             progress,
@@ -141,10 +144,17 @@ impl DroneRun {
         let was_gated = self.follower.hold == Hold::Gate;
         self.follower.set_paused(paused);
         self.enforce_tracking(settings, dt_s, paused || aborting);
-        let setpoint = self
-            .follower
-            .step(&self.route, t_s, dt_s, gate_arc_m, settled);
+        let setpoint = self.follower.step(&self.route, t_s, dt_s, gate, settled);
         self.streamed_arc_m = self.follower.arc_m(&self.route, t_s);
+        // Others may fly through gates this drone's setpoint is committed to open
+        // in time, while its vehicle is trusted (see `gate::Progress::commit`).
+        if self.trusted_now && matches!(self.phase, Phase::Flying) && !aborting {
+            let (route, follower) = (&self.route, &self.follower);
+            self.progress
+                .commit(route, |arc_m| follower.latest_pass_s(route, arc_m, t_s));
+        } else {
+            self.progress.clear_commitments();
+        }
         // A paused drone waits for its own link, not for a TPG predecessor.
         let gated = self.follower.hold == Hold::Gate && !aborting && !paused;
         self.gating.count(gated, was_gated, blocker, dt_s);
