@@ -25,6 +25,7 @@ mod executor;
 mod follower;
 mod freeze;
 mod gate;
+mod last_known;
 mod lateness;
 mod log;
 mod observer;
