@@ -19,7 +19,7 @@ pub(super) fn parse(text: &str, now: SystemTime) -> Result<SystemTime, String> {
         now + ahead
     } else if text.contains('-') {
         humantime::parse_rfc3339_weak(text).map_err(|e| {
-            format!("`{text}`: {e} (expected a UTC instant such as 2026-12-05T20:30:00Z)")
+            format!("`{text}`: {e} (expected an RFC 3339 UTC instant such as 2026-12-05T20:30:00Z)")
         })?
     } else {
         time_of_day_today(text, now)?
