@@ -52,6 +52,11 @@ impl Brake {
         }
     }
 
+    /// Its pieces of constant jerk (for motions that end with this stop).
+    pub(super) fn pieces(&self) -> [Piece; 3] {
+        self.pieces
+    }
+
     /// How long the stop takes, seconds.
     pub fn duration_s(&self) -> f64 {
         pieces::duration_s(&self.pieces)

@@ -19,9 +19,11 @@
 
 mod brake;
 mod pieces;
+mod resume;
 
 pub use brake::Brake;
 pub use pieces::State;
+pub use resume::Resume;
 
 use pieces::Piece;
 use serde::{Deserialize, Serialize};
