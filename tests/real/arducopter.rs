@@ -127,10 +127,11 @@ async fn fly_and_check(relative: &str, max_stretch: f64) {
 /// The 8-drone formation change on eight real ArduCopter SITL vehicles, each at its
 /// own home: completed, safety held from telemetry and from the simulator's truth,
 /// speed within the limit plus tolerance, every drone at its goal, on time.
-/// Execution takes 1.24–1.32× the plan (76.3–80.9 s of 61.3 s, five runs on
-/// 2026-12-03/04; the long ones while the machine was also compiling), nearly all
-/// of it gating waits behind drones the real autopilot flies late (issue 32): the
-/// test allows 1.4× so load on a shared machine does not fail it.
+/// Execution took 1.24–1.32× the plan (76.3–80.9 s of 61.3 s) on 2026-12-03/04;
+/// with issue 32's executor (gates on commanded progress, braking drones picking
+/// up again, runs starting within half the tracking bound of their corner) it
+/// takes 1.05× (64.2 s, 2026-12-05). The speed goal is measured, not asserted:
+/// the test allows 1.4× so load on a shared machine does not fail it.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn formation_change_on_real_arducopter() {
     fly_and_check("missions/formation-change.yaml", 1.4).await;
