@@ -223,7 +223,6 @@ fn speed_change(v0: f64, a0: f64, v1: f64, limits: Kinematics) -> [Piece; 3] {
 
 #[cfg(test)]
 mod tests {
-    use super::super::Profile;
     use super::*;
 
     const LIMITS: Kinematics = Kinematics {
