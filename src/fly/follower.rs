@@ -14,12 +14,11 @@
 //! the state it is in ([`Resume`]), as soon as flying on from there would pass the
 //! same check; one that did stop starts over with a rest-to-rest profile.
 
+use super::course::Course;
 use super::gate::GateAhead;
+use super::gate_limits::GateLimits;
 use super::path::{Route, RouteRun};
 use crate::profile::{Brake, Kinematics, Profile, Resume, State};
-
-/// Stop this far short of a closed gate's marker.
-pub const STOP_MARGIN_M: f64 = 0.01;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Motion {
@@ -39,108 +38,6 @@ enum Motion {
         t0_s: f64,
         for_gate: bool,
     },
-}
-
-/// How the rest of a run is flown: the scheduler's rest-to-rest profile, or a
-/// motion picked up mid-brake.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Course {
-    Planned(Profile),
-    Resumed(Resume),
-}
-
-impl Course {
-    fn length_m(&self) -> f64 {
-        match self {
-            Self::Planned(p) => p.length_m,
-            Self::Resumed(r) => r.length_m(),
-        }
-    }
-
-    fn duration_s(&self) -> f64 {
-        match self {
-            Self::Planned(p) => p.duration_s(),
-            Self::Resumed(r) => r.duration_s(),
-        }
-    }
-
-    fn state_at(&self, time_s: f64) -> State {
-        match self {
-            Self::Planned(p) => p.state_at(time_s),
-            Self::Resumed(r) => r.state_at(time_s),
-        }
-    }
-
-    fn time_at_distance_s(&self, distance_m: f64) -> f64 {
-        match self {
-            Self::Planned(p) => p.time_at_distance_s(distance_m),
-            Self::Resumed(r) => r.time_at_distance_s(distance_m),
-        }
-    }
-}
-
-/// Where a run's gate check looks, metres along the current run.
-#[derive(Debug, Clone, Copy)]
-struct GateLimits {
-    /// Stop by here unless the first gate opens before the drone reaches it.
-    stop_x_m: f64,
-    /// Stop by here in any case (the first gate not committed to open).
-    hard_stop_x_m: f64,
-    /// The first closed gate.
-    gate_x_m: f64,
-    /// When every gate before the hard limit has opened at the latest.
-    opens_by_s: f64,
-}
-
-impl GateLimits {
-    /// The limits a run keeps: [`STOP_MARGIN_M`] short of a gate inside it, but
-    /// all the way to its end for a gate right there. The run ends at rest at that
-    /// point, where the schedule holds the drone before the event (its departure)
-    /// and where the next run starts held anyway; stopping a centimetre short
-    /// instead cost a creep of half a second once the gate opened.
-    fn on(run: &RouteRun, gate: GateAhead) -> Self {
-        let stop_short_of = |gate_arc_m: f64| {
-            let x_m = gate_arc_m - run.arc_start_m;
-            if (x_m - run.length_m).abs() <= 1e-9 {
-                run.length_m + 1e-9
-            } else {
-                x_m - STOP_MARGIN_M
-            }
-        };
-        Self {
-            stop_x_m: stop_short_of(gate.arc_m),
-            hard_stop_x_m: stop_short_of(gate.hard_arc_m),
-            gate_x_m: gate.arc_m - run.arc_start_m,
-            opens_by_s: gate.opens_by_s,
-        }
-    }
-
-    /// Whether a drone flying `course` from `x0_m`, begun at `t0_s`, must brake
-    /// now, `dt_s` being the period: braking at the next tick would stop past a
-    /// gate not committed to open, or past the first closed gate when it would
-    /// reach that gate before it opens.
-    fn must_brake(
-        &self,
-        (x0_m, course, t0_s): (f64, Course, f64),
-        (t_s, dt_s): (f64, f64),
-        limits: Kinematics,
-    ) -> bool {
-        let next = course.state_at(t_s + dt_s - t0_s);
-        let stop_next_m = Brake::new(
-            State {
-                x_m: x0_m + next.x_m,
-                ..next
-            },
-            limits,
-        )
-        .stop_m();
-        // Past the point where it could still stop before the first gate, it
-        // flies on only if it reaches that gate after it opens.
-        let too_early = stop_next_m > self.stop_x_m
-            && !(self.gate_x_m <= x0_m + course.length_m()
-                && t0_s + course.time_at_distance_s(self.gate_x_m - x0_m) >= self.opens_by_s);
-        stop_next_m > self.hard_stop_x_m || too_early
-    }
 }
 
 /// Why a drone is not moving right now (for the status view and the log).
@@ -395,7 +292,7 @@ impl Follower {
                         };
                         start_s(t_s, dt_s, due_s.max(self.rest_since_s))
                     };
-                    self.hold = self.start_hold(run, x_m, (t_s, t0_s, dt_s), gate, settled);
+                    self.hold = self.start_hold(run, x_m, (t_s, t0_s, dt_s), limits, settled);
                     if self.hold != Hold::None {
                         break;
                     }
@@ -491,21 +388,18 @@ impl Follower {
     }
 
     /// Why a run cannot start at tick `t_s` from rest `x_m` along `run` (its profile
-    /// would begin at `t0_s`, `dt_s` being the period), or [`Hold::None`].
+    /// would begin at `t0_s`, `dt_s` being the period), or [`Hold::None`]. A run
+    /// starts only when the check a moving drone passes every tick passes for it
+    /// at once: starting and braking on the same tick would only creep.
     fn start_hold(
         &self,
         run: &RouteRun,
         x_m: f64,
         (t_s, t0_s, dt_s): (f64, f64, f64),
-        gate: GateAhead,
+        limits: GateLimits,
         settled: bool,
     ) -> Hold {
-        // Starting would already need braking within one period.
-        let no_room = |gate_arc_m: f64| {
-            gate_arc_m - run.arc_start_m - STOP_MARGIN_M - x_m
-                < self.limits.max_accel_mps2 * dt_s * dt_s + 1e-9
-        };
-        let gate_x_m = gate.arc_m - run.arc_start_m;
+        let course = Course::Planned(Profile::new(run.length_m - x_m, self.limits));
         if self.halted || self.paused {
             Hold::Gate
         } else if self.tracking_hold {
@@ -514,16 +408,8 @@ impl Follower {
             Hold::Schedule
         } else if !settled {
             Hold::Settling
-        } else if no_room(gate.hard_arc_m) {
-            Hold::Gate
-        } else if no_room(gate.arc_m)
-            && !(gate_x_m <= run.length_m
-                && t0_s
-                    + Profile::new(run.length_m - x_m, self.limits)
-                        .time_at_distance_s(gate_x_m - x_m)
-                    >= gate.opens_by_s)
-        {
-            // Committed gates ahead, but it would reach them before they open.
+        } else if limits.must_brake((x_m, course, t0_s), (t_s, dt_s), self.limits) {
+            // A gate ahead not committed to open, or committed but reached first.
             Hold::Gate
         } else {
             Hold::None
@@ -568,6 +454,7 @@ fn start_s(t_s: f64, dt_s: f64, due_s: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fly::gate_limits::STOP_MARGIN_M;
     use crate::fly::path::{RouteRun, distance_m};
 
     const LIMITS: Kinematics = Kinematics {

@@ -19,12 +19,14 @@
 mod autopilot;
 mod command;
 mod contingency;
+mod course;
 mod drone;
 mod error;
 mod executor;
 mod follower;
 mod freeze;
 mod gate;
+mod gate_limits;
 mod last_known;
 mod lateness;
 mod log;
