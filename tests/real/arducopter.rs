@@ -130,7 +130,8 @@ async fn fly_and_check(relative: &str, max_stretch: f64) {
 /// Execution took 1.24–1.32× the plan (76.3–80.9 s of 61.3 s) on 2026-12-03/04;
 /// with issue 32's executor (gates on commanded progress, braking drones picking
 /// up again, runs starting within half the tracking bound of their corner) it
-/// takes 1.05× (64.2 s, 2026-12-05). The speed goal is measured, not asserted:
+/// takes 1.05× (64.2 s, 2026-12-05; 64.6 s of 61.6 s with the 10 % ArduPilot
+/// speed headroom, truth top speed 0.99 m/s). The speed goal is measured, not asserted:
 /// the test allows 1.4× so load on a shared machine does not fail it.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn formation_change_on_real_arducopter() {
@@ -148,8 +149,12 @@ async fn swap_corridor_on_real_arducopter() {
 }
 
 /// Ctrl-C in the middle of the formation change on real ArduCopters: every drone
-/// brakes, lands on its own spot, and none descends onto another (truth: no two
-/// closer than the safety distance at any time, touchdowns included).
+/// brakes and lands on its own spot, and none descends onto another (truth: no two
+/// closer than the safety distance at any time, touchdowns included). A drone that
+/// came to rest above another is not landed on it: it stays in the autopilot's
+/// position hold, reported for manual control, and the flight is not a success.
+/// That happened on 2026-12-05, once flights keep their schedule: 12 s in, `r3`
+/// was 3.5 m above `r2` (the README's "Ctrl-C" paragraph).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn ctrl_c_mid_flight_on_real_arducopter_lands_everyone_apart() {
     let _one = fleet::ONE_AT_A_TIME.lock().await;
@@ -188,9 +193,45 @@ async fn ctrl_c_mid_flight_on_real_arducopter_lands_everyone_apart() {
         "true separation {:.3} m < {d} m",
         truth.min_separation_m
     );
-    for (i, a) in truth.final_enu_m.iter().enumerate() {
-        assert!(a[2] < 0.2, "drone {i} landed (ends {:.2} m up)", a[2]);
-        for b in &truth.final_enu_m[i + 1..] {
+    let ids: Vec<String> = log.drones.iter().map(|dr| dr.id.clone()).collect();
+    let landed: Vec<[f64; 3]> = truth
+        .final_enu_m
+        .iter()
+        .copied()
+        .filter(|a| a[2] < 0.2)
+        .collect();
+    for (id, a) in ids.iter().zip(&truth.final_enu_m) {
+        if a[2] < 0.2 {
+            continue;
+        }
+        // Still up: only because it came to rest above a drone that landed.
+        let reported = log.events.iter().any(|e| {
+            e.drone.as_deref() == Some(id.as_str())
+                && e.message.starts_with("cannot land:")
+                && e.message.contains("is below it")
+        });
+        assert!(
+            reported,
+            "{id} is still up ({:.2} m) and was not reported",
+            a[2]
+        );
+        assert!(
+            landed.iter().any(|b| (a[0] - b[0]).hypot(a[1] - b[1]) < d),
+            "{id} was held up though nobody landed below it"
+        );
+        assert!(
+            log.summary.unaccounted.iter().any(|u| &u.id == id),
+            "{id} is not listed as unaccounted for"
+        );
+    }
+    assert!(
+        landed.len() + 2 > ids.len(),
+        "only {} of {} drones landed",
+        landed.len(),
+        ids.len()
+    );
+    for (i, a) in landed.iter().enumerate() {
+        for b in &landed[i + 1..] {
             let apart_m = (a[0] - b[0]).hypot(a[1] - b[1]);
             assert!(apart_m >= d, "two touchdowns {apart_m:.3} m apart");
         }
