@@ -31,6 +31,9 @@ pub struct Fleet {
     pub processes: Vec<Process>,
     pub links: Vec<fly::VehicleLink>,
     pub tracks: Vec<Track>,
+    /// When the flight began (set by [`fly`]): truth instants are reported as
+    /// seconds from it, the clock of the flight log's events.
+    pub flown_at: std::sync::OnceLock<Instant>,
 }
 
 /// Where and how one firmware reports its simulator's truth.
@@ -57,6 +60,7 @@ impl Fleet {
             processes: Vec::new(),
             links: Vec::new(),
             tracks: Vec::new(),
+            flown_at: std::sync::OnceLock::new(),
         };
         for (n, (_, d)) in mission.drones().enumerate() {
             let n = u16::try_from(n).expect("a few drones");
@@ -130,6 +134,7 @@ pub async fn fly(
 ) -> FlightLog {
     let mut options = fly::FlyOptions::new(fleet.links.clone());
     options.ready_timeout = Duration::from_secs(120);
+    let _ = fleet.flown_at.set(Instant::now());
     tokio::time::timeout(limit, fly::fly(mission, plan, &options, abort))
         .await
         .expect("flight within the test's time limit")
@@ -183,6 +188,16 @@ pub fn report(
         figures.samples,
         started.elapsed().as_secs_f64()
     );
+    if let (Some(top), Some(flown_at)) = (figures.top_speed_sample, fleet.flown_at.get()) {
+        let v = top.velocity_ned_mps;
+        eprintln!(
+            "  truth: top speed at {:.1} s of the flight, velocity NED ({:.2}, {:.2}, {:.2}) m/s",
+            top.at.saturating_duration_since(*flown_at).as_secs_f64(),
+            v[0],
+            v[1],
+            v[2]
+        );
+    }
     for (id, p) in ids.iter().zip(&figures.final_enu_m) {
         eprintln!(
             "  {id} ends at ENU ({:.2}, {:.2}, {:.2}) m (truth)",

@@ -107,6 +107,8 @@ pub struct Figures {
     /// Highest speed of any vehicle, m/s, and which.
     pub top_speed_mps: f64,
     pub fastest: usize,
+    /// The sample the top speed was read from (`None` without samples).
+    pub top_speed_sample: Option<TruthSample>,
     /// Where each vehicle was at the end, ENU metres.
     pub final_enu_m: Vec<[f64; 3]>,
     /// Samples read in all.
@@ -126,6 +128,7 @@ pub fn figures(origin: &Geodetic, tracks: &[Track]) -> Figures {
         closest_pair: (0, 0),
         top_speed_mps: 0.0,
         fastest: 0,
+        top_speed_sample: None,
         final_enu_m: tracks
             .iter()
             .map(|t| t.last().map_or([f64::NAN; 3], |s| enu_m(origin, s)))
@@ -166,6 +169,7 @@ pub fn figures(origin: &Geodetic, tracks: &[Track]) -> Figures {
             if speed > out.top_speed_mps {
                 out.top_speed_mps = speed;
                 out.fastest = i;
+                out.top_speed_sample = Some(*s);
             }
         }
     }
