@@ -193,10 +193,12 @@ impl Follower {
     /// halt or a pause brakes from the last validated state, and a profile flown on
     /// and braked later is ahead of it at every moment), so it passes `arc_m` by
     /// then whatever happens; `None` when at rest short of it or past where it
-    /// could stop.
+    /// could stop. A brake that stops within `schedule::COMMIT_TOLERANCE_M` short of it counts
+    /// (a run coming to rest at the event brakes exactly as hard, and rounding puts
+    /// its stop either side).
     pub fn latest_pass_s(&self, route: &Route, arc_m: f64, t_s: f64) -> Option<f64> {
         let run = route.runs.get(self.run)?;
-        let x_m = arc_m - run.arc_start_m;
+        let x_m = arc_m - run.arc_start_m - crate::schedule::COMMIT_TOLERANCE_M;
         let (brake, t0_s) = match self.motion {
             Motion::Rest { x_m: at_m } => return (x_m <= at_m).then_some(t_s),
             Motion::Moving { .. } => {

@@ -7,8 +7,9 @@ use super::gate::GateAhead;
 use super::path::RouteRun;
 use crate::profile::{Brake, Kinematics, State};
 
-/// Stop this far short of a closed gate's marker.
-pub(super) const STOP_MARGIN_M: f64 = 0.01;
+/// Stop this far short of a closed gate's marker (the schedule budgets each
+/// hand-over's decision with the same margin).
+pub(super) const STOP_MARGIN_M: f64 = crate::schedule::GATE_STOP_MARGIN_M;
 
 /// Where a run's gate check looks, metres along the current run.
 #[derive(Debug, Clone, Copy)]

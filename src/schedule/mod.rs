@@ -123,6 +123,17 @@
 //! setpoints then keep the order the argument needs; a gate whose predecessor is
 //! not committed, or a stage's hold, is still one to stop short of.
 //!
+//! *Budgeting that decision.* The dependant decides a stopping distance (and a
+//! setpoint period or two) before its event, and its predecessor is committed
+//! only once braking would carry it past its own, to the time braking passes it,
+//! which is later than flying on does: the dependant brakes although both are on
+//! time. [`solve`] therefore adds to every hand-over
+//! edge the least gap that has the predecessor committed, by when the dependant
+//! decides, to pass its event no later than the dependant reaches its own
+//! (`decision_lead`; none for an event where the dependant's run ends, as it
+//! stops there anyway). The gap only delays runs, so the argument above stands;
+//! the schedule now says when a flight that keeps it passes every event.
+//!
 //! **Ellipsoids.** Downwash reaches further below a drone than beside it, so a mission
 //! may separate drones by an axis-aligned ellipsoid instead (`limits.separation`:
 //! horizontal radius `H`, vertical `V`; see [`crate::world::Separation`]). The schedule
@@ -185,12 +196,14 @@
 //! marker too early starts its run later rather than stopping in mid-air. The earliest
 //! schedule is a longest path in the DAG of runs, O(V + E).
 
+mod decision_lead;
 mod error;
 mod execution;
 mod solve;
 mod stn;
 mod tpg;
 
+pub use decision_lead::{COMMIT_TOLERANCE_M, GATE_STOP_MARGIN_M};
 pub use error::ScheduleError;
 pub use execution::{ExecutionDrone, ExecutionEvent, ExecutionPlan, execution_plan};
 pub use solve::{DroneSchedule, EventTime, Schedule, Segment, solve};

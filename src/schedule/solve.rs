@@ -13,6 +13,7 @@
 //! itself (a rotation), reported as [`ScheduleError::CyclicPlan`].
 
 use super::ScheduleError;
+use super::decision_lead::{DecisionLead, RunPoint};
 use super::stn::Stn;
 use super::tpg::Tpg;
 use crate::profile::{Kinematics, Profile};
@@ -309,14 +310,34 @@ impl Layout {
             }
         }
         stn.add(ORIGIN, END, 0.0, inf);
+        let mut lead = DecisionLead::new(tpg.setpoint_period_s, tpg.kinematics());
         for e in &tpg.cross_edges {
             let (from_tp, from_off) = self.reach(tpg, e.from.drone, e.from.index);
             let Some((to_tp, to_off)) = self.leave(tpg, e.to.drone, e.to.index) else {
                 continue;
             };
-            stn.add(from_tp, to_tp, from_off - to_off + e.delay_s, inf);
+            // A hold is waited out at rest; a hand-over is flown through on time
+            // only with the dependant's decision budgeted (see `decision_lead`).
+            let gap_s = if e.delay_s > 0.0 || from_tp == ORIGIN {
+                e.delay_s
+            } else {
+                lead.gap_s(
+                    self.run_point(from_tp, from_off),
+                    self.run_point(to_tp, to_off),
+                )
+            };
+            stn.add(from_tp, to_tp, from_off - to_off + gap_s, inf);
         }
         stn
+    }
+
+    /// The run starting at timepoint `tp` (a segment's) and an offset in it.
+    fn run_point(&self, tp: u32, offset_s: f64) -> RunPoint<'_> {
+        let (drone, seg) = self.owner[tp as usize];
+        RunPoint {
+            profile: &self.profiles[drone as usize][seg as usize],
+            offset_s,
+        }
     }
 
     fn schedule(&self, tpg: &Tpg, stn: Stn, order: &[u32], rest: &[Vec<bool>]) -> Schedule {

@@ -10,15 +10,19 @@ use crate::plan::DiscretePlan;
 use crate::schedule::ScheduleError;
 use crate::world::{Voxel, VoxelGrid};
 
-/// Builds the TPG of `plan` for `mission`: events, markers and minimal type-2 edges.
+/// Builds the TPG of `plan` for `mission`: events, markers and minimal type-2 edges,
+/// with the mission's setpoint period for the gates' decision lead.
 ///
 /// Fails with a clear error if the safety distance exceeds the voxel size, if a path is
 /// malformed, or if two drones meet in a voxel or swap along an edge.
 pub fn build(mission: &Mission, plan: &DiscretePlan) -> Result<Tpg, ScheduleError> {
-    build_with(&mission.airspace, &mission.commanded_limits(), plan)
+    let mut tpg = build_with(&mission.airspace, &mission.commanded_limits(), plan)?;
+    tpg.setpoint_period_s = 1.0 / mission.link.setpoint_rate_hz;
+    Ok(tpg)
 }
 
-/// [`build`] from a world and limits rather than a whole mission.
+/// [`build`] from a world and limits rather than a whole mission, with no
+/// setpoint period (no decision lead is budgeted).
 pub fn build_with(
     world: &VoxelGrid,
     limits: &Limits,
@@ -97,5 +101,6 @@ pub fn build_with(
         max_jerk_mps3: limits.max_jerk_mps3,
         drones,
         cross_edges,
+        setpoint_period_s: 0.0,
     })
 }

@@ -124,6 +124,10 @@ pub struct Tpg {
     pub drones: Vec<TpgDrone>,
     /// Type-2 edges, sorted by target event.
     pub cross_edges: Vec<CrossEdge>,
+    /// The period setpoints are streamed at, seconds: how far ahead of a gate a
+    /// flight decides on it (see `decision_lead`); 0 budgets no decision.
+    #[serde(default)]
+    pub setpoint_period_s: f64,
 }
 
 impl Tpg {
