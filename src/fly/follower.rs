@@ -294,13 +294,16 @@ impl Follower {
                         };
                         start_s(t_s, dt_s, due_s.max(self.rest_since_s))
                     };
-                    self.hold = self.start_hold(run, x_m, (t_s, t0_s, dt_s), limits, settled);
+                    // The run flies the very course its start was checked on.
+                    let course = Course::Planned(Profile::new(run.length_m - x_m, self.limits));
+                    self.hold =
+                        self.start_hold(run, (x_m, course, t0_s), (t_s, dt_s), limits, settled);
                     if self.hold != Hold::None {
                         break;
                     }
                     self.motion = Motion::Moving {
                         x0_m: x_m,
-                        course: Course::Planned(Profile::new(run.length_m - x_m, self.limits)),
+                        course,
                         t0_s,
                     };
                     self.validated_until_s = t_s;
@@ -389,19 +392,18 @@ impl Follower {
         )
     }
 
-    /// Why a run cannot start at tick `t_s` from rest `x_m` along `run` (its profile
+    /// Why `run` cannot start at tick `t_s` from rest `x_m` on `course` (which
     /// would begin at `t0_s`, `dt_s` being the period), or [`Hold::None`]. A run
     /// starts only when the check a moving drone passes every tick passes for it
     /// at once: starting and braking on the same tick would only creep.
     fn start_hold(
         &self,
         run: &RouteRun,
-        x_m: f64,
-        (t_s, t0_s, dt_s): (f64, f64, f64),
+        (x_m, course, t0_s): (f64, Course, f64),
+        (t_s, dt_s): (f64, f64),
         limits: GateLimits,
         settled: bool,
     ) -> Hold {
-        let course = Course::Planned(Profile::new(run.length_m - x_m, self.limits));
         if self.halted || self.paused {
             Hold::Gate
         } else if self.tracking_hold {
