@@ -207,23 +207,7 @@ impl Follower {
             }
             Motion::Braking { brake, t0_s, .. } => (brake, t0_s),
         };
-        if x_m > brake.stop_m() {
-            return None;
-        }
-        // Position only grows along a brake: bisect to a microsecond.
-        let (mut lo, mut hi) = (0.0, brake.duration_s());
-        if brake.state_at(0.0).x_m >= x_m {
-            return Some(t0_s);
-        }
-        while hi - lo > 1e-6 {
-            let mid = 0.5 * (lo + hi);
-            if brake.state_at(mid).x_m < x_m {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        Some(t0_s + hi)
+        brake.time_to_pass_s(x_m).map(|after_s| t0_s + after_s)
     }
 
     /// Position along the current run, speed and acceleration at `t_s`, for the

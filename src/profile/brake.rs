@@ -74,6 +74,29 @@ impl Brake {
     pub fn stop_m(&self) -> f64 {
         pieces::state_at(self.start, &self.pieces, self.duration_s()).x_m
     }
+
+    /// How long after braking began it passes `x_m`, to a microsecond (0 if it
+    /// starts there or beyond); `None` if it stops short. The follower's
+    /// commitments and the schedule's decision lead both ask this.
+    pub fn time_to_pass_s(&self, x_m: f64) -> Option<f64> {
+        if x_m > self.stop_m() {
+            return None;
+        }
+        if self.start.x_m >= x_m {
+            return Some(0.0);
+        }
+        // Position only grows along a brake: bisect.
+        let (mut lo, mut hi) = (0.0, self.duration_s());
+        while hi - lo > 1e-6 {
+            let mid = 0.5 * (lo + hi);
+            if self.state_at(mid).x_m < x_m {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(hi)
+    }
 }
 
 #[cfg(test)]
@@ -86,6 +109,25 @@ mod tests {
         max_accel_mps2: 2.0,
         max_jerk_mps3: 5.0,
     };
+
+    #[test]
+    fn a_brake_passes_a_point_once_and_never_one_past_its_stop() {
+        let b = Brake::new(
+            State {
+                x_m: 3.0,
+                v_mps: 1.0,
+                a_mps2: 0.0,
+            },
+            LIMITS,
+        );
+        assert_eq!(b.time_to_pass_s(2.0), Some(0.0));
+        assert_eq!(b.time_to_pass_s(b.stop_m() + 1e-3), None);
+        let t = b.time_to_pass_s(3.3).expect("passes");
+        assert!((b.state_at(t).x_m - 3.3).abs() < 1e-5, "{t}");
+        assert!(b.state_at(t - 1e-4).x_m < 3.3);
+        let end = b.time_to_pass_s(b.stop_m()).expect("reaches its stop");
+        assert!((end - b.duration_s()).abs() < 1e-5, "{end}");
+    }
 
     #[test]
     fn braking_from_any_point_of_a_profile_ends_at_rest_within_the_limits() {

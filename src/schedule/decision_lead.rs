@@ -137,7 +137,7 @@ impl DecisionLead {
 }
 
 /// When braking from A's state at offset `tau_s` passes A's event at `x_m`,
-/// offset seconds in A's run (∞ if it stops short; `at_s` itself from there on).
+/// offset seconds in A's run (∞ if it stops short; the event's own offset from there on).
 fn pass_s(from: RunPoint, x_m: f64, tau_s: f64, limits: Kinematics) -> f64 {
     if tau_s >= from.offset_s {
         return from.offset_s;
@@ -145,24 +145,9 @@ fn pass_s(from: RunPoint, x_m: f64, tau_s: f64, limits: Kinematics) -> f64 {
     if tau_s < 0.0 {
         return f64::INFINITY;
     }
-    let brake = Brake::new(from.profile.state_at(tau_s), limits);
-    let x_m = x_m - COMMIT_TOLERANCE_M;
-    if brake.stop_m() < x_m {
-        return f64::INFINITY;
-    }
-    let (mut lo, mut hi) = (0.0, brake.duration_s());
-    if brake.state_at(lo).x_m >= x_m {
-        return tau_s;
-    }
-    while hi - lo > GAP_TOLERANCE_S * 0.1 {
-        let mid = 0.5 * (lo + hi);
-        if brake.state_at(mid).x_m < x_m {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    tau_s + hi
+    Brake::new(from.profile.state_at(tau_s), limits)
+        .time_to_pass_s(x_m - COMMIT_TOLERANCE_M)
+        .map_or(f64::INFINITY, |after_s| tau_s + after_s)
 }
 
 /// The least gap `g` in `[0, lead_s]` with `pass(t_A + g − lead) ≤ t_A + g`.
