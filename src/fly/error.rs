@@ -35,6 +35,10 @@ pub enum FlyError {
         #[source]
         source: LinkError,
     },
+    /// A radio of `link.radios` cannot carry its drones' traffic (see
+    /// `link::budget`); one line per radio with the numbers and the fixes.
+    #[error("refused before connecting: the link budget does not fit:\n{}", .0.join("\n"))]
+    LinkBudget(Vec<String>),
     /// Some vehicles failed pre-flight; one line per problem, naming the drone.
     #[error("pre-flight checks failed, nobody was armed:\n{}", .0.join("\n"))]
     Preflight(Vec<String>),

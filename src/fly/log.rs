@@ -254,6 +254,10 @@ pub struct DroneLog {
     pub frame: super::placement::FrameFix,
     /// Mission ENU position of its vehicle's local origin, metres.
     pub local_origin_enu_m: [f64; 3],
+    /// What its link carried from arming to the end of the flight, measured at
+    /// the controller, beside the link budget; `None` in older logs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub link_traffic: Option<super::link_traffic::LinkTraffic>,
     /// Telemetry samples `[t_s, x_m, y_m, z_m]` (ENU; t from the first arm command).
     pub samples: Vec<[f64; 4]>,
 }

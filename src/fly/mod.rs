@@ -29,6 +29,7 @@ mod gate;
 mod gate_limits;
 mod last_known;
 mod lateness;
+mod link_traffic;
 mod log;
 mod observer;
 mod options;
@@ -47,6 +48,7 @@ mod vehicle_limits;
 
 pub use error::FlyError;
 pub use lateness::{EventLateness, LatenessSummary};
+pub use link_traffic::LinkTraffic;
 pub use log::{
     DroneLog, FlightLog, LogEvent, PLAN_STARTED, ReplanRecord, SPEED_TOLERANCE, Summary,
     TrackingError,
@@ -101,6 +103,7 @@ pub async fn fly_checked(
     mut abort: tokio::sync::watch::Receiver<bool>,
 ) -> Result<FlightLog, FlyError> {
     let routes = routes(mission, plan, options)?;
+    fits_link_budget(mission)?;
     // Pre-flight gets until the swarm must arm for the start instant, at most.
     let ready_timeout = match &options.start_at {
         Some(start) => start
@@ -130,6 +133,7 @@ pub async fn fly_checked(
     start_at::wait_to_arm(options.start_at.as_ref(), &mut abort).await?;
     let armed_at = Instant::now();
     let armed_at_unix_s = start_at::unix_s(std::time::SystemTime::now());
+    let bytes_at_arming: Vec<_> = sessions.iter().map(|s| s.bytes()).collect();
     for s in &sessions {
         s.state().recording = true;
     }
@@ -172,7 +176,8 @@ pub async fn fly_checked(
     )
     .await;
     let duration_s = armed_at.elapsed().as_secs_f64();
-    let drone_logs = report::drone_logs(&drones, &options.vehicles, armed_at);
+    let traffic = report::link_traffic(&drones, &bytes_at_arming, duration_s, mission);
+    let drone_logs = report::drone_logs(&drones, &options.vehicles, &traffic, armed_at);
     let flown = report::Flown {
         drones: &drones,
         logs: &drone_logs,
@@ -182,14 +187,28 @@ pub async fn fly_checked(
         check: plan.figures(),
     };
     let summary = report::summary(&flown, &outcome);
+    let mut events = report::stream_events(&ids, &checked);
+    events.extend(outcome.events);
     Ok(FlightLog {
         mission: mission.name.clone(),
         summary,
         drones: drone_logs,
-        events: outcome.events,
+        events,
         armed_at_unix_s: Some(armed_at_unix_s),
         start_at_unix_s: options.start_at.map(|s| start_at::unix_s(s.at)),
     })
+}
+
+/// Refuses a mission whose radios cannot carry its drones' traffic, before any
+/// vehicle is contacted.
+fn fits_link_budget(mission: &Mission) -> Result<(), FlyError> {
+    let refusals = crate::link::budget::Budget::of(mission).refusals();
+    if refusals.is_empty() {
+        return Ok(());
+    }
+    Err(FlyError::LinkBudget(
+        refusals.into_iter().map(|r| format!("  {r}")).collect(),
+    ))
 }
 
 /// The flight loop's tunables, from the mission and the fly options.

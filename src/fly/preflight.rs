@@ -5,7 +5,7 @@
 use super::autopilot::{self, Flavour};
 use super::error::FlyError;
 use super::placement::{self, FrameSource, Placed, PlacementRules};
-use crate::link::Session;
+use crate::link::{Quieted, Session};
 use crate::mission::{Geodetic, Limits};
 use std::sync::Arc;
 use std::time::Duration;
@@ -34,6 +34,10 @@ pub struct PreflightLimits {
     pub position_rate_hz: f64,
 }
 
+/// How long pre-flight listens before it turns off the streams the link budget
+/// does not keep (`Session::quiet_other_streams`).
+const STREAMS_HEARD_WITHIN: Duration = Duration::from_millis(2500);
+
 /// How often a vehicle found off its pad is looked at again.
 const PLACE_RETRY: Duration = Duration::from_millis(500);
 
@@ -45,6 +49,7 @@ async fn check_one(
     pad_enu_m: [f64; 3],
     limits: PreflightLimits,
 ) -> Result<Checked, String> {
+    let checks_started = std::time::Instant::now();
     let announced = session
         .wait_heartbeat(limits.heartbeat_timeout)
         .await
@@ -115,10 +120,14 @@ async fn check_one(
         &limits.commanded_limits,
     )
     .await?;
+    // Long enough to have heard every stream of 1 Hz or faster twice.
+    tokio::time::sleep_until((checks_started + STREAMS_HEARD_WITHIN).into()).await;
+    let quieted = session.quiet_other_streams().await;
     Ok(Checked {
         flavour,
         placed,
         accel_lead_s,
+        quieted,
     })
 }
 
@@ -166,7 +175,7 @@ async fn wait_ready(id: &str, session: &Session, within: Duration) -> Result<(),
 }
 
 /// What pre-flight learned of one vehicle.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Checked {
     /// Its autopilot family.
     pub flavour: &'static dyn Flavour,
@@ -175,6 +184,9 @@ pub struct Checked {
     /// How far ahead its acceleration feed-forward is sent, seconds
     /// (see [`super::vehicle_limits::accel_lead_s`]).
     pub accel_lead_s: f64,
+    /// The default streams turned off to keep to the link budget, and any the
+    /// vehicle kept sending.
+    pub quieted: Quieted,
 }
 
 /// Runs every check concurrently and returns each vehicle's flavour and frame, or

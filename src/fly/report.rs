@@ -4,11 +4,15 @@
 use super::drone::DroneRun;
 use super::executor::Outcome;
 use super::lateness::LatenessSummary;
-use super::log::{DroneLog, LastKnown, Summary, Unaccounted};
+use super::link_traffic::LinkTraffic;
+use super::log::{DroneLog, LastKnown, LogEvent, Summary, Unaccounted};
 use super::options::VehicleLink;
 use super::phase::Phase;
+use super::preflight::Checked;
 use crate::compiled::CheckFigures;
-use crate::mission::Limits;
+use crate::link::LinkBytes;
+use crate::link::budget::Budget;
+use crate::mission::{Limits, Mission};
 use mavlink::dialects::common::MavLandedState;
 use std::time::Instant;
 
@@ -32,12 +36,14 @@ pub struct Flown<'a> {
 pub fn drone_logs(
     drones: &[DroneRun],
     vehicles: &[VehicleLink],
+    traffic: &[LinkTraffic],
     armed_at: Instant,
 ) -> Vec<DroneLog> {
     drones
         .iter()
         .zip(vehicles)
-        .map(|(d, v)| {
+        .zip(traffic)
+        .map(|((d, v), traffic)| {
             let s = d.session().state();
             DroneLog {
                 id: d.id().to_string(),
@@ -56,6 +62,7 @@ pub fn drone_logs(
                 tracking_hold_s: d.tracking_hold_s(),
                 frame: d.placed().fix,
                 local_origin_enu_m: d.frame().local_origin_enu_m(),
+                link_traffic: Some(*traffic),
                 samples: s
                     .track
                     .iter()
@@ -66,6 +73,42 @@ pub fn drone_logs(
                     })
                     .collect(),
             }
+        })
+        .collect()
+}
+
+/// What each drone's link carried from arming (`at_arming`) over the flight's
+/// `duration_s`, against the mission's link budget.
+pub fn link_traffic(
+    drones: &[DroneRun],
+    at_arming: &[LinkBytes],
+    duration_s: f64,
+    mission: &Mission,
+) -> Vec<LinkTraffic> {
+    let budget = Budget::of(mission);
+    drones
+        .iter()
+        .zip(at_arming)
+        .map(|(d, at_arming)| {
+            let bytes = d.session().bytes().since(*at_arming);
+            LinkTraffic::measured(bytes, duration_s, &budget.per_drone)
+        })
+        .collect()
+}
+
+/// One event per vehicle that kept sending streams the link budget has no room
+/// for (pre-flight asked it to stop them), at time 0.
+pub fn stream_events(ids: &[String], checked: &[Checked]) -> Vec<LogEvent> {
+    ids.iter()
+        .zip(checked)
+        .filter(|(_, c)| !c.quieted.still_on.is_empty())
+        .map(|(id, c)| LogEvent {
+            t_s: 0.0,
+            drone: Some(id.clone()),
+            message: format!(
+                "kept streaming message ids {:?} after pre-flight asked it to stop: they spend link capacity the budget does not count",
+                c.quieted.still_on
+            ),
         })
         .collect()
 }

@@ -6,6 +6,7 @@
 //! acknowledged. [`frames`] is the only place the mission's ENU meets each vehicle's
 //! own local NED.
 
+pub mod budget;
 mod error;
 pub mod frames;
 mod messages;
@@ -19,10 +20,10 @@ mod transport;
 pub use error::LinkError;
 pub use frames::VehicleFrame;
 pub use mode::ModeRequest;
-pub use session::{CommandPolicy, Session};
+pub use session::{CommandPolicy, Quieted, Session};
 pub use signing::{SigningKey, SigningKeyError};
 pub use telemetry::{PositionSample, VehicleState};
-pub use transport::{CarriedLink, Carrier, CarrierInbox, carried};
+pub use transport::{CarriedLink, Carrier, CarrierInbox, LinkBytes, carried};
 
 /// The link's wire-level pieces, public for the simulator's fuzz tests and the
 /// relays, which speak the same frames: the receive fold every message goes

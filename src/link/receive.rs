@@ -38,8 +38,8 @@
 use super::messages::{AUTOPILOT_COMPONENT_ID, GCS_COMPONENT_ID, GCS_SYSTEM_ID};
 use super::telemetry::{PositionSample, VehicleState};
 use crate::mission::Geodetic;
-use mavlink::MavHeader;
 use mavlink::dialects::common::{COMMAND_ACK_DATA, MavMessage, MavModeFlag, MavSysStatusSensor};
+use mavlink::{MavHeader, Message};
 use std::time::Instant;
 
 /// A LOCAL_POSITION_NED `time_boot_ms` this far (or further) behind the newest one
@@ -64,6 +64,11 @@ pub fn fold(
     }
     state.last_message = Some(now);
     let from_autopilot = header.component_id == AUTOPILOT_COMPONENT_ID;
+    if from_autopilot {
+        // Bounded: one entry per message id the dialect knows.
+        let seen = state.messages_seen.entry(message.message_id()).or_default();
+        *seen = seen.saturating_add(1);
+    }
     match message {
         MavMessage::HEARTBEAT(h) if from_autopilot => {
             state.last_heartbeat = Some(now);

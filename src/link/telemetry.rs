@@ -53,6 +53,9 @@ pub struct VehicleState {
     pub gps_origin: Option<Geodetic>,
     /// HOME_POSITION's geodetic point (where the vehicle armed or booted).
     pub home: Option<Geodetic>,
+    /// How many messages of each id the autopilot component sent (saturating):
+    /// the periodic ones pre-flight turns off unless the budget keeps them.
+    pub messages_seen: std::collections::BTreeMap<u32, u32>,
     /// Parameters the vehicle reported (PARAM_VALUE), by name.
     pub params: std::collections::BTreeMap<String, f32>,
     /// Every position sample received, for the flight log (when recording is on).

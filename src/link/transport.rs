@@ -16,8 +16,11 @@
 use super::error::LinkError;
 use mavlink::dialects::common::MavMessage;
 use mavlink::error::MessageReadError;
-use mavlink::{AsyncConnection, AsyncMavConnection, MavHeader, MavlinkReader, MavlinkVersion};
-use std::sync::atomic::{AtomicU8, Ordering};
+use mavlink::{
+    AsyncConnection, AsyncMavConnection, MAVLinkMessageRaw, MavHeader, MavlinkReader,
+    MavlinkVersion, Message,
+};
+use std::sync::atomic::{AtomicU8, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use tokio::sync::mpsc;
 
@@ -26,8 +29,15 @@ use tokio::sync::mpsc;
 /// queue means the carrier is stuck; dropping is what a radio link does too.
 pub const CARRIED_QUEUE_FRAMES: usize = 256;
 
-/// Where a session's frames go.
-pub(crate) enum Transport {
+/// Where a session's frames go, and how many bytes went each way.
+pub(crate) struct Transport {
+    carriage: Carriage,
+    sent_bytes: AtomicU64,
+    received_bytes: AtomicU64,
+}
+
+/// What carries a session's frames.
+enum Carriage {
     /// A rust-mavlink connection of the session's own.
     Direct(Box<AsyncConnection<MavMessage>>),
     /// Frames carried by someone else (a relay).
@@ -49,7 +59,54 @@ pub(crate) enum Received {
     Closed,
 }
 
+/// The bytes a link has moved each way since it opened: whole MAVLink frames,
+/// signatures included, as they crossed the socket or the carrier.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct LinkBytes {
+    /// From the controller to the vehicle.
+    pub sent: u64,
+    /// From the vehicle to the controller (every frame with a valid CRC,
+    /// whether or not it was meant for us or decoded).
+    pub received: u64,
+}
+
+impl LinkBytes {
+    /// What moved between `earlier` and `self`.
+    pub fn since(self, earlier: LinkBytes) -> LinkBytes {
+        LinkBytes {
+            sent: self.sent.saturating_sub(earlier.sent),
+            received: self.received.saturating_sub(earlier.received),
+        }
+    }
+}
+
 impl Transport {
+    /// A connection the session opened itself.
+    pub(crate) fn direct(connection: AsyncConnection<MavMessage>) -> Transport {
+        Self::over(Carriage::Direct(Box::new(connection)))
+    }
+
+    /// A link something else carries.
+    pub(crate) fn carried(end: CarriedEnd) -> Transport {
+        Self::over(Carriage::Carried(end))
+    }
+
+    fn over(carriage: Carriage) -> Transport {
+        Transport {
+            carriage,
+            sent_bytes: AtomicU64::new(0),
+            received_bytes: AtomicU64::new(0),
+        }
+    }
+
+    /// The bytes moved each way so far.
+    pub(crate) fn bytes(&self) -> LinkBytes {
+        LinkBytes {
+            sent: self.sent_bytes.load(Ordering::Relaxed),
+            received: self.received_bytes.load(Ordering::Relaxed),
+        }
+    }
+
     /// Sends one message with our header (the sequence number is filled in here
     /// or by the connection).
     pub(crate) async fn send(
@@ -57,35 +114,62 @@ impl Transport {
         header: &MavHeader,
         message: &MavMessage,
     ) -> Result<(), LinkError> {
-        match self {
-            Transport::Direct(connection) => connection
+        let sent = match &self.carriage {
+            Carriage::Direct(connection) => connection
                 .send(header, message)
                 .await
-                .map(|_| ())
-                .map_err(|e| LinkError::Send(e.to_string())),
-            Transport::Carried(end) => end.send(header, message),
-        }
+                .map_err(|e| LinkError::Send(e.to_string()))?,
+            Carriage::Carried(end) => end.send(header, message)?,
+        };
+        self.sent_bytes.fetch_add(sent as u64, Ordering::Relaxed);
+        Ok(())
     }
 
     /// Receives the next message.
     pub(crate) async fn recv(&self) -> Received {
-        match self {
-            Transport::Direct(connection) => match connection.recv().await {
-                Ok((header, message)) => Received::Message(header, message),
-                Err(MessageReadError::Parse(_)) => Received::Undecodable,
-                Err(_) => Received::Failed,
+        let (bytes, received) = match &self.carriage {
+            Carriage::Direct(connection) => match connection.recv_raw().await {
+                Ok(raw) => (raw_len(&raw), decode_raw(&raw)),
+                Err(MessageReadError::Parse(_)) => (0, Received::Undecodable),
+                Err(_) => (0, Received::Failed),
             },
-            Transport::Carried(end) => end.recv().await,
-        }
+            Carriage::Carried(end) => end.recv().await,
+        };
+        self.received_bytes
+            .fetch_add(bytes as u64, Ordering::Relaxed);
+        received
     }
 
     /// Why the carrier says the vehicle cannot be reached now (a relay that
     /// left), if it says so; a direct link never does.
     pub(crate) fn down(&self) -> Option<String> {
-        match self {
-            Transport::Direct(_) => None,
-            Transport::Carried(end) => end.link.down(),
+        match &self.carriage {
+            Carriage::Direct(_) => None,
+            Carriage::Carried(end) => end.link.down(),
         }
+    }
+}
+
+/// A raw frame's length on the wire, bytes.
+fn raw_len(raw: &MAVLinkMessageRaw) -> usize {
+    match raw {
+        MAVLinkMessageRaw::V1(frame) => frame.raw_bytes().len(),
+        MAVLinkMessageRaw::V2(frame) => frame.raw_bytes().len(),
+    }
+}
+
+/// The message in a CRC-checked (and, on a signed link, signature-checked) frame.
+fn decode_raw(raw: &MAVLinkMessageRaw) -> Received {
+    match MavMessage::parse(raw.version(), raw.message_id(), raw.payload()) {
+        Ok(message) => Received::Message(
+            MavHeader {
+                system_id: raw.system_id(),
+                component_id: raw.component_id(),
+                sequence: raw.sequence(),
+            },
+            message,
+        ),
+        Err(_) => Received::Undecodable,
     }
 }
 
@@ -212,30 +296,42 @@ pub(crate) struct CarriedEnd {
 }
 
 impl CarriedEnd {
-    fn send(&self, header: &MavHeader, message: &MavMessage) -> Result<(), LinkError> {
+    /// Queues one frame for the carrier; returns its length in bytes.
+    fn send(&self, header: &MavHeader, message: &MavMessage) -> Result<usize, LinkError> {
         let header = MavHeader {
             sequence: self.sequence.fetch_add(1, Ordering::Relaxed),
             ..*header
         };
         let frame = encode_frame(header, message);
-        self.link.to_vehicle.try_send(frame).map_err(|e| {
-            LinkError::Send(match e {
-                mpsc::error::TrySendError::Full(_) => {
-                    format!("{} is not keeping up (queue full)", self.link.label)
-                }
-                mpsc::error::TrySendError::Closed(_) => format!("{} has stopped", self.link.label),
+        let len = frame.len();
+        self.link
+            .to_vehicle
+            .try_send(frame)
+            .map(|()| len)
+            .map_err(|e| {
+                LinkError::Send(match e {
+                    mpsc::error::TrySendError::Full(_) => {
+                        format!("{} is not keeping up (queue full)", self.link.label)
+                    }
+                    mpsc::error::TrySendError::Closed(_) => {
+                        format!("{} has stopped", self.link.label)
+                    }
+                })
             })
-        })
     }
 
-    async fn recv(&self) -> Received {
+    /// The next frame's length in bytes and what it held.
+    async fn recv(&self) -> (usize, Received) {
         let frame = self.from_vehicle.lock().await.recv().await;
         match frame {
-            None => Received::Closed,
-            Some(frame) => match decode_frame(&frame) {
-                Some((header, message)) => Received::Message(header, message),
-                None => Received::Undecodable,
-            },
+            None => (0, Received::Closed),
+            Some(frame) => (
+                frame.len(),
+                match decode_frame(&frame) {
+                    Some((header, message)) => Received::Message(header, message),
+                    None => Received::Undecodable,
+                },
+            ),
         }
     }
 }
@@ -310,13 +406,13 @@ mod tests {
         let inbox = carrier.to_controller();
         assert!(inbox.deliver(encode_frame(header, &heartbeat())));
         assert!(inbox.deliver(b"junk".to_vec()));
-        assert!(matches!(end.recv().await, Received::Message(..)));
-        assert!(matches!(end.recv().await, Received::Undecodable));
+        assert!(matches!(end.recv().await, (_, Received::Message(..))));
+        assert!(matches!(end.recv().await, (4, Received::Undecodable)));
         assert_eq!(link.down(), None);
         inbox.set_down(Some("relay north left".into()));
         assert_eq!(link.down().as_deref(), Some("relay north left"));
         drop(inbox);
         drop(carrier);
-        assert!(matches!(end.recv().await, Received::Closed));
+        assert!(matches!(end.recv().await, (0, Received::Closed)));
     }
 }

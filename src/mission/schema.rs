@@ -341,6 +341,27 @@ pub struct LinkSpec {
     /// `tcp/127.0.0.1:7447`, where relays connect by default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub zenoh: Option<ZenohSpec>,
+    /// The telemetry radios that carry the vehicles' links, each with the drones
+    /// it serves and what it can carry; the link budget (`swarmctl check`) must
+    /// fit each. None: every drone has a link of its own with room to spare
+    /// (Wi-Fi, loopback), and the budget is only reported.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub radios: Vec<RadioSpec>,
+}
+
+/// One shared telemetry radio (e.g. a SiK radio at its air rate): every drone
+/// it serves sends and receives over it, both directions sharing its capacity.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RadioSpec {
+    /// Unique among the radios; names it in the budget and its refusals.
+    pub name: String,
+    /// The drone ids it carries; a drone is on at most one radio.
+    pub drones: Vec<String>,
+    /// What it carries both ways together, kbit/s (a SiK radio: its air rate,
+    /// 64 by default); the budget keeps 10 % of it for the radio's own framing
+    /// and for bursts (commands, parameter reads).
+    pub capacity_kbps: f64,
 }
 
 /// One relay: a process owning the MAVLink links of some drones, reached over Zenoh.
@@ -390,6 +411,7 @@ impl Default for LinkSpec {
             signing: None,
             relays: Vec::new(),
             zenoh: None,
+            radios: Vec::new(),
         }
     }
 }

@@ -1,7 +1,7 @@
 //! A validated mission: every field checked, coordinates inside the world.
 
 pub use super::schema::Geodetic;
-use super::schema::{Autopilot, Landing, RelaySpec, ZenohSpec};
+use super::schema::{Autopilot, Landing, RadioSpec, RelaySpec, ZenohSpec};
 use crate::world::{Separation, VerticalReach, Voxel, VoxelGrid};
 use serde::{Deserialize, Serialize};
 
@@ -238,6 +238,9 @@ pub struct LinkSettings {
     pub relays: Vec<RelaySpec>,
     /// Where the controller meets the relays; `None`: the default.
     pub zenoh: Option<ZenohSpec>,
+    /// Shared telemetry radios, each drone on at most one; a drone on none has
+    /// a link of its own (Wi-Fi, loopback) that the budget does not limit.
+    pub radios: Vec<RadioSpec>,
 }
 
 /// Where a signing key is read from when a flight starts (see `link::signing`).

@@ -127,3 +127,76 @@ fn template_is_valid_and_commented() {
     assert!(text.lines().filter(|l| l.contains('#')).count() > 20);
     swarmctl().arg("check").arg(&file).assert().success();
 }
+
+/// The formation-change mission with its eight drones on the radios given.
+fn formation_change_on(radios: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let text =
+        std::fs::read_to_string(crate::support::repo_root().join("missions/formation-change.yaml"))
+            .expect("mission");
+    let text = text.replacen(
+        "  setpoint_rate_hz: 20\n",
+        &format!("  setpoint_rate_hz: 20\n  radios:\n{radios}"),
+        1,
+    );
+    assert!(text.contains("radios:"), "the mission's link section moved");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("radios.yaml");
+    std::fs::write(&path, text).expect("write mission");
+    (dir, path)
+}
+
+#[test]
+fn check_prints_the_link_budget_per_drone_and_per_radio() {
+    let (_dir, path) = formation_change_on(
+        "    - { name: west, drones: [b1, b2, b3], capacity_kbps: 64 }\n    - { name: east, drones: [r1, r2, r3], capacity_kbps: 64 }\n",
+    );
+    swarmctl()
+        .arg("check")
+        .arg(&path)
+        .assert()
+        .success()
+        // 65 B setpoints × 20 Hz + a 21 B heartbeat = 10.6 kbit/s up.
+        .stdout(contains(
+            "per drone 10.6 kbit/s up + 7.6 kbit/s down = 18.1 kbit/s",
+        ))
+        .stdout(contains("SET_POSITION_TARGET_LOCAL_NED 65 B × 20 Hz"))
+        .stdout(contains("west: 3 drones, 54.4 of 57.6 kbit/s usable"))
+        .stdout(contains("own links  2 drones on no radio"));
+}
+
+#[test]
+fn an_over_full_radio_is_refused_with_the_numbers_and_the_fixes() {
+    let (_dir, path) = formation_change_on(
+        "    - { name: r1, drones: [b1, b2, b3, b4, r1, r2, r3, r4], capacity_kbps: 64 }\n",
+    );
+    swarmctl()
+        .arg("check")
+        .arg(&path)
+        .assert()
+        .failure()
+        .stderr(contains(
+            "radio r1: 8 drones × 18.1 kbit/s = 145.1 kbit/s > 57.6 kbit/s usable (90 % of 64 kbit/s): lower link.setpoint_rate_hz to 6, or split r1 into 3 radios of at most 3 drones",
+        ));
+}
+
+#[test]
+fn radios_naming_unknown_or_shared_drones_are_invalid() {
+    let (_dir, path) = formation_change_on(
+        "    - { name: a, drones: [b1, b2], capacity_kbps: 64 }\n    - { name: a, drones: [b2, x9], capacity_kbps: 0 }\n",
+    );
+    swarmctl()
+        .arg("check")
+        .arg(&path)
+        .assert()
+        .failure()
+        .stderr(contains(
+            "link.radios[1].name: radio \"a\" is already link.radios[0]",
+        ))
+        .stderr(contains(
+            "link.radios[1].capacity_kbps: must be a positive number",
+        ))
+        .stderr(contains(
+            "link.radios[1].drones[0]: drone b2 is already on radio a",
+        ))
+        .stderr(contains("link.radios[1].drones[1]: no drone \"x9\""));
+}

@@ -299,6 +299,7 @@ fn synthetic_flight(plan: &CompiledPlan) -> FlightLog {
             tracking_hold_s: 0.0,
             frame: swarmctl::fly::FrameFix::Shared,
             local_origin_enu_m: [0.0; 3],
+            link_traffic: None,
             samples: d
                 .trajectory
                 .iter()

@@ -118,3 +118,22 @@ pub fn assert_success(log: &FlightLog) {
         "the summary prints it"
     );
 }
+
+/// Each drone's measured link, each way, is within 10 % of the link budget:
+/// the budget counts what the flight sends, and pre-flight turned off the
+/// streams it does not count.
+pub fn assert_traffic_within_budget(log: &FlightLog) {
+    for d in &log.drones {
+        let t = d.link_traffic.expect("measured link traffic");
+        for (way, measured, budget) in [
+            ("up", t.up_kbps, t.budget_up_kbps),
+            ("down", t.down_kbps, t.budget_down_kbps),
+        ] {
+            assert!(
+                (measured / budget - 1.0).abs() <= 0.10,
+                "{}: {way} {measured:.2} kbit/s measured against {budget:.2} kbit/s budgeted",
+                d.id
+            );
+        }
+    }
+}

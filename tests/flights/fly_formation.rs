@@ -18,6 +18,7 @@ async fn formation_change_px4() {
         .await
         .expect("flight");
     assert_success(&log);
+    assert_traffic_within_budget(&log);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -27,6 +28,7 @@ async fn formation_change_ardupilot() {
         .await
         .expect("flight");
     assert_success(&log);
+    assert_traffic_within_budget(&log);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -1,6 +1,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 use swarmctl::link::SigningKey;
+use swarmctl::link::budget::{self, Budget};
 use swarmctl::{mission, plan};
 
 #[derive(Debug, clap::Args)]
@@ -21,7 +22,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     all_valid = false;
                     eprintln!("{}: link.signing: {e}", path.display());
                 }
-                _ => print_summary(path, &m),
+                _ => {
+                    let budget = Budget::of(&m);
+                    let refusals = budget.refusals();
+                    if refusals.is_empty() {
+                        print_summary(path, &m, &budget);
+                    } else {
+                        all_valid = false;
+                        for r in refusals {
+                            eprintln!("{}: link.radios: {r}", path.display());
+                        }
+                    }
+                }
             },
             Err(e) => {
                 all_valid = false;
@@ -39,7 +51,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     })
 }
 
-fn print_summary(path: &std::path::Path, m: &mission::Mission) {
+fn print_summary(path: &std::path::Path, m: &mission::Mission, budget: &Budget) {
     let [x, y, z] = m.world.dimensions();
     let lower_bound = plan::makespan_lower_bound(m).map_or_else(
         || "none (no starts, or an unmatched group)".to_string(),
@@ -79,8 +91,46 @@ fn print_summary(path: &std::path::Path, m: &mission::Mission) {
         );
     }
     println!("  separation {}", separation_text(m));
+    print_budget(budget);
     println!("  formation  ≥ {lower_bound} from the starts (lower bound, collisions ignored)");
     super::pads::print_pads_and_legs(m);
+}
+
+/// The link budget: each drone's steady traffic each way, message by message,
+/// and each radio's load against what it can carry.
+fn print_budget(budget: &Budget) {
+    let d = &budget.per_drone;
+    println!(
+        "  link       per drone {:.1} kbit/s up + {:.1} kbit/s down = {:.1} kbit/s at {} Hz setpoints and telemetry",
+        d.up_kbps(),
+        d.down_kbps(),
+        d.total_kbps(),
+        budget.setpoint_rate_hz
+    );
+    for (way, flows) in [("up  ", &d.up), ("down", &d.down)] {
+        let parts: Vec<String> = flows
+            .iter()
+            .map(|f| format!("{} {} B × {} Hz", f.message, f.frame_bytes, f.rate_hz))
+            .collect();
+        println!("             {way} {}", parts.join(", "));
+    }
+    for r in &budget.radios {
+        println!(
+            "  radio      {}: {} drones, {:.1} of {:.1} kbit/s usable ({:.0} % of its {} kbit/s)",
+            r.name,
+            r.drones,
+            r.load_kbps,
+            r.usable_kbps,
+            budget::RADIO_USABLE_FRACTION * 100.0,
+            r.capacity_kbps
+        );
+    }
+    if budget.own_links > 0 {
+        println!(
+            "  own links  {} drones on no radio (Wi-Fi, loopback): not limited by the budget",
+            budget.own_links
+        );
+    }
 }
 
 /// The separation the mission keeps, with the setpoints' and, under an ellipsoid,

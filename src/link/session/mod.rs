@@ -22,12 +22,13 @@ mod reader;
 mod streams;
 
 pub use command::CommandPolicy;
+pub use streams::Quieted;
 
 use super::error::LinkError;
 use super::messages::position_target;
 use super::signing::SigningKey;
 use super::telemetry::VehicleState;
-use super::transport::{CarriedLink, Transport};
+use super::transport::{CarriedLink, LinkBytes, Transport};
 use mavlink::AsyncMavConnection;
 use mavlink::dialects::common::{COMMAND_ACK_DATA, MavAutopilot, MavMessage};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -80,7 +81,7 @@ impl Session {
             connection.setup_signing(Some(key.config()));
         }
         Ok(Self::start(
-            Transport::Direct(Box::new(connection)),
+            Transport::direct(connection),
             endpoint,
             system_id,
             policy,
@@ -105,7 +106,7 @@ impl Session {
             ),
         })?;
         Ok(Self::start(
-            Transport::Carried(end),
+            Transport::carried(end),
             link.label(),
             system_id,
             policy,
@@ -145,6 +146,11 @@ impl Session {
     /// silence is how its loss shows.
     pub fn carrier_down(&self) -> Option<String> {
         self.transport.down()
+    }
+
+    /// The bytes this session has moved each way since it opened.
+    pub fn bytes(&self) -> LinkBytes {
+        self.transport.bytes()
     }
 
     /// The vehicle state (locked briefly: never hold it across an await).

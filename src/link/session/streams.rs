@@ -2,30 +2,83 @@
 //! messages requested once.
 
 use super::Session;
+use crate::link::budget;
 use crate::link::error::LinkError;
-use mavlink::dialects::common::MavCmd;
+use mavlink::MessageData;
+use mavlink::dialects::common::{
+    AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, MavCmd, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+};
 
-/// MAVLink message ids we ask the vehicle to stream.
-const LOCAL_POSITION_NED_ID: f32 = 32.0;
-const EXTENDED_SYS_STATE_ID: f32 = 245.0;
-const SYS_STATUS_ID: f32 = 1.0;
+/// Messages a vehicle sends in answer to us, not on a schedule: never turned off.
+const ANSWERS: [u32; 4] = [
+    COMMAND_ACK_DATA::ID,
+    PARAM_VALUE_DATA::ID,
+    STATUSTEXT_DATA::ID,
+    AUTOPILOT_VERSION_DATA::ID,
+];
+
+/// What [`Session::quiet_other_streams`] did.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Quieted {
+    /// Message ids turned off.
+    pub off: Vec<u32>,
+    /// Message ids the vehicle would not turn off: they still spend the link.
+    pub still_on: Vec<u32>,
+}
+
+/// A message seen this often is taken for a periodic one.
+const PERIODIC_AFTER: u32 = 2;
+
+/// MAV_CMD_SET_MESSAGE_INTERVAL's interval that turns a message off, µs.
+const INTERVAL_OFF_US: f32 = -1.0;
 
 impl Session {
-    /// Asks for position at `position_hz`, landed state at 5 Hz and health at 1 Hz.
+    /// Asks for the telemetry of the link budget ([`budget::telemetry_streams`]):
+    /// position at `position_hz`, landed state and health.
     pub async fn request_rates(&self, position_hz: f64) -> Result<(), LinkError> {
-        for (id, hz) in [
-            (LOCAL_POSITION_NED_ID, position_hz),
-            (EXTENDED_SYS_STATE_ID, 5.0),
-            (SYS_STATUS_ID, 1.0),
-        ] {
+        for (id, hz) in budget::telemetry_streams(position_hz) {
             let interval_us = (1e6 / hz.max(0.1)) as f32;
-            self.command(
-                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-                [id, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
-            )
-            .await?;
+            self.set_message_interval(id, interval_us).await?;
         }
         Ok(())
+    }
+
+    /// Turns off every periodic message the vehicle has sent that the link
+    /// budget does not keep ([`budget::kept_message_ids`]): an autopilot streams
+    /// much by default (attitude, global position, battery …) that would spend
+    /// a radio's capacity. Says which it turned off and which the vehicle
+    /// would not turn off (refused, or never acknowledged).
+    pub async fn quiet_other_streams(&self) -> Quieted {
+        let kept = budget::kept_message_ids();
+        let periodic: Vec<u32> = self
+            .state()
+            .messages_seen
+            .iter()
+            .filter(|(id, count)| {
+                **count >= PERIODIC_AFTER && !kept.contains(id) && !ANSWERS.contains(id)
+            })
+            .map(|(id, _)| *id)
+            .collect();
+        let mut quieted = Quieted::default();
+        for id in periodic {
+            match self.set_message_interval(id, INTERVAL_OFF_US).await {
+                Ok(()) => quieted.off.push(id),
+                Err(_) => quieted.still_on.push(id),
+            }
+        }
+        quieted
+    }
+
+    async fn set_message_interval(
+        &self,
+        message_id: u32,
+        interval_us: f32,
+    ) -> Result<(), LinkError> {
+        self.command(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [message_id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
     }
 
     /// Asks the vehicle to send message `message_id` once (MAV_CMD_REQUEST_MESSAGE).

@@ -13,6 +13,7 @@ mod contests;
 mod fields;
 mod groups;
 mod pads;
+mod radios;
 mod reachability;
 mod relays;
 mod report;
@@ -28,7 +29,7 @@ use crate::world::Voxel;
 use report::Report;
 
 pub use bounds::{MAX_DIMENSION, MAX_VOXELS};
-pub use settings::MAX_VERTICAL_LAYERS;
+pub use settings::{MAX_VERTICAL_LAYERS, SETPOINT_RATES_HZ};
 
 /// Checks a parsed mission. Returns every problem found, not just the first.
 pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
@@ -40,6 +41,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         settings::separation_fits_voxel(&file.limits, file.world.voxel_size_m, &mut report);
     let signing = settings::check_link(&file.link, &mut report);
     let relay_of = relays::check_relays(&file.link, &file.groups, &mut report);
+    radios::check_radios(&file.link, &file.groups, &mut report);
     if file.groups.is_empty() {
         report.add("groups", "a mission needs at least one group of drones");
     }
@@ -122,6 +124,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
             signing,
             relays: link.relays.clone(),
             zenoh: link.zenoh.clone(),
+            radios: link.radios.clone(),
         },
         groups,
         stages,

@@ -6,8 +6,9 @@ use super::report::Report;
 use crate::mission::schema::{LimitsSpec, LinkSpec, WorldSpec};
 use crate::mission::types::{DEFAULT_TRACKING_ERROR_M, KeySource};
 
-/// PX4 leaves offboard below 2 Hz; far above 100 Hz no autopilot listens.
-const SETPOINT_RATES_HZ: std::ops::RangeInclusive<f64> = 2.5..=100.0;
+/// The setpoint rates a mission may ask for, Hz: PX4 leaves offboard below 2 Hz;
+/// far above 100 Hz no autopilot listens.
+pub const SETPOINT_RATES_HZ: std::ops::RangeInclusive<f64> = 2.5..=100.0;
 
 /// A mission needs a name: it labels logs, recordings and plan files.
 pub(super) fn check_name(name: &str, report: &mut Report) {

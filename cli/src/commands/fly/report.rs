@@ -46,6 +46,9 @@ pub(super) fn print_report(mission: &Mission, log: &fly::FlightLog, path: &Path)
     for line in log.summary.lines() {
         println!("{line}");
     }
+    if let Some(line) = traffic_line(log) {
+        println!("{line}");
+    }
     if let Some(at_s) = log.start_at_unix_s {
         let asked = std::time::UNIX_EPOCH + std::time::Duration::from_secs_f64(at_s.max(0.0));
         let started = match fly::plan_start_delay_s(log) {
@@ -69,4 +72,26 @@ pub(super) fn print_report(mission: &Mission, log: &fly::FlightLog, path: &Path)
         );
     }
     println!("  log                  {}", path.display());
+}
+
+/// The busiest drone's measured link each way against the budget, if measured.
+fn traffic_line(log: &fly::FlightLog) -> Option<String> {
+    let traffic: Vec<(&str, &fly::LinkTraffic)> = log
+        .drones
+        .iter()
+        .filter_map(|d| d.link_traffic.as_ref().map(|t| (d.id.as_str(), t)))
+        .collect();
+    let busiest = |kbps: fn(&fly::LinkTraffic) -> f64| {
+        traffic
+            .iter()
+            .max_by(|a, b| kbps(a.1).total_cmp(&kbps(b.1)))
+            .map(|(id, t)| (*id, kbps(t)))
+    };
+    let (up_id, up_kbps) = busiest(|t| t.up_kbps)?;
+    let (down_id, down_kbps) = busiest(|t| t.down_kbps)?;
+    let budget = traffic.first()?.1;
+    Some(format!(
+        "  link (measured)      up {up_kbps:.1} kbit/s ({up_id}; budget {:.1}), down {down_kbps:.1} kbit/s ({down_id}; budget {:.1}) per drone",
+        budget.budget_up_kbps, budget.budget_down_kbps
+    ))
 }
