@@ -21,6 +21,7 @@ mod command;
 mod contingency;
 mod course;
 mod drone;
+mod dry_run;
 mod error;
 mod executor;
 mod follower;
@@ -46,6 +47,7 @@ mod tap;
 mod unaccounted;
 mod vehicle_limits;
 
+pub use dry_run::{DryRun, DryRunDrone, ReadyVehicle, dry_run};
 pub use error::FlyError;
 pub use lateness::{EventLateness, LatenessSummary};
 pub use link_traffic::LinkTraffic;
@@ -114,20 +116,8 @@ pub async fn fly_checked(
     let planned_makespan_s = plan.compiled().execution.makespan_s;
     let ids: Vec<String> = routes.iter().map(|r| r.id.clone()).collect();
     let sessions = connect_all(&ids, options).await?;
-    let grounds: Vec<[f64; 3]> = routes
-        .iter()
-        .map(|r| [r.start_m[0], r.start_m[1], 0.0])
-        .collect();
-    let limits = preflight::PreflightLimits {
-        frames: options.frames,
-        geo_origin: mission.geo_origin,
-        mission_limits: mission.limits,
-        commanded_limits: mission.commanded_limits(),
-        heartbeat_timeout: options.heartbeat_timeout,
-        ready_timeout,
-        start_tolerance_m: options.start_tolerance_m,
-        position_rate_hz: mission.link.setpoint_rate_hz,
-    };
+    let grounds = grounds(&routes);
+    let limits = preflight_limits(mission, options, ready_timeout);
     let checked = preflight::check_all(&ids, &sessions, &grounds, limits).await?;
     let flavours: Vec<_> = checked.iter().map(|c| c.flavour).collect();
     start_at::wait_to_arm(options.start_at.as_ref(), &mut abort).await?;
@@ -197,6 +187,32 @@ pub async fn fly_checked(
         armed_at_unix_s: Some(armed_at_unix_s),
         start_at_unix_s: options.start_at.map(|s| start_at::unix_s(s.at)),
     })
+}
+
+/// Where each drone's vehicle should stand: below its start, on the ground.
+fn grounds(routes: &[path::Route]) -> Vec<[f64; 3]> {
+    routes
+        .iter()
+        .map(|r| [r.start_m[0], r.start_m[1], 0.0])
+        .collect()
+}
+
+/// What pre-flight asks of every vehicle, from the mission and the fly options.
+fn preflight_limits(
+    mission: &Mission,
+    options: &FlyOptions,
+    ready_timeout: std::time::Duration,
+) -> preflight::PreflightLimits {
+    preflight::PreflightLimits {
+        frames: options.frames,
+        geo_origin: mission.geo_origin,
+        mission_limits: mission.limits,
+        commanded_limits: mission.commanded_limits(),
+        heartbeat_timeout: options.heartbeat_timeout,
+        ready_timeout,
+        start_tolerance_m: options.start_tolerance_m,
+        position_rate_hz: mission.link.setpoint_rate_hz,
+    }
 }
 
 /// Refuses a mission whose radios cannot carry its drones' traffic, before any

@@ -197,32 +197,56 @@ pub async fn check_all(
     pads_enu_m: &[[f64; 3]],
     limits: PreflightLimits,
 ) -> Result<Vec<Checked>, FlyError> {
+    let results = check_each(ids, sessions, pads_enu_m, limits).await;
+    let mut failures: Vec<String> = results
+        .iter()
+        .filter_map(|r| r.as_ref().err().map(|why| format!("  {why}")))
+        .collect();
+    if !failures.is_empty() {
+        failures.sort();
+        return Err(FlyError::Preflight(failures));
+    }
+    Ok(results.into_iter().flatten().collect())
+}
+
+/// Runs every check concurrently; each vehicle's result in the order of `ids`
+/// (a failure is one line naming the drone).
+pub async fn check_each(
+    ids: &[String],
+    sessions: &[Arc<Session>],
+    pads_enu_m: &[[f64; 3]],
+    limits: PreflightLimits,
+) -> Vec<Result<Checked, String>> {
     let mut set = JoinSet::new();
     for (i, (id, session)) in ids.iter().zip(sessions).enumerate() {
         let fut = check_one(id.clone(), session.clone(), pads_enu_m[i], limits);
         set.spawn(async move { (i, fut.await) });
     }
-    let mut flavours = vec![None; ids.len()];
-    let mut failures = Vec::new();
+    let mut results: Vec<Option<Result<Checked, String>>> = vec![None; ids.len()];
+    let mut crashed = Vec::new();
     while let Some(joined) = set.join_next().await {
         match joined {
-            Ok((i, Ok(f))) => flavours[i] = Some(f),
-            Ok((_, Err(why))) => failures.push(format!("  {why}")),
-            Err(e) => failures.push(format!("  a check task failed: {e}")),
+            Ok((i, result)) => results[i] = Some(result),
+            Err(e) => crashed.push(format!("a check task failed: {e}")),
         }
     }
-    if !failures.is_empty() {
-        failures.sort();
-        return Err(FlyError::Preflight(failures));
-    }
-    // Every task answered (a failed one is a failure above), so each drone has a
-    // flavour; a missing one is still reported rather than guessed.
-    flavours
+    // A check task that failed leaves its drone without a result: reported as
+    // such (with why, when it is known), never guessed.
+    results
         .into_iter()
         .zip(ids)
-        .map(|(f, id)| f.ok_or_else(|| format!("  {id}: no pre-flight result")))
-        .collect::<Result<Vec<_>, String>>()
-        .map_err(|line| FlyError::Preflight(vec![line]))
+        .map(|(r, id)| {
+            r.unwrap_or_else(|| {
+                Err(format!(
+                    "{id}: no pre-flight result{}",
+                    crashed
+                        .first()
+                        .map(|c| format!(" ({c})"))
+                        .unwrap_or_default()
+                ))
+            })
+        })
+        .collect()
 }
 
 /// Arms everyone (ArduPilot: GUIDED first, as Copter takes off only from GUIDED).

@@ -398,3 +398,62 @@ fn check_reports_a_signing_key_fly_could_not_load() {
     }
     assert!(!dir.path().join("flights").join("f.rrd").exists());
 }
+
+/// `fly --dry-run` on the bundled simulator: every drone ready, the link budget
+/// printed, exit 0, and no flight log or recording written (nothing flew).
+#[test]
+fn a_dry_run_reports_every_drone_ready_and_flies_nothing() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let log = dir.path().join("flight.json");
+    let out = swarmctl()
+        .args([
+            "fly",
+            "missions/formation-change.yaml",
+            "--dry-run",
+            "--log",
+        ])
+        .arg(&log)
+        .output()
+        .expect("run");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}{}", stderr(&out));
+    for id in ["b1", "b2", "b3", "b4", "r1", "r2", "r3", "r4"] {
+        assert!(
+            text.lines()
+                .any(|l| l.trim_start().starts_with(id) && l.contains("ready      px4")),
+            "{id} not reported ready:\n{text}"
+        );
+    }
+    assert!(text.contains("per drone at 20 Hz"), "{text}");
+    assert!(
+        text.contains("the swarm would fly (8 of 8 ready)"),
+        "{text}"
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").collect();
+    assert!(left.is_empty(), "a dry run wrote {left:?}");
+}
+
+/// A vehicle failing its pre-arm checks makes the dry run exit 1 naming it with
+/// the autopilot's reason, while the others are reported ready.
+#[test]
+fn a_dry_run_names_the_vehicle_that_would_not_fly() {
+    let out = swarmctl()
+        .args([
+            "fly",
+            "missions/formation-change.yaml",
+            "--dry-run",
+            "--fault",
+            "refuse-arm=r2",
+        ])
+        .output()
+        .expect("run");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}{}", stderr(&out));
+    assert!(
+        text.lines().any(|l| l.contains("r2")
+            && l.contains("NOT READY")
+            && l.contains("pre-arm checks fail")),
+        "{text}"
+    );
+    assert!(text.contains("1 of 8 not ready (r2)"), "{text}");
+}

@@ -70,12 +70,21 @@ fn sample(message: &MavMessage, at: Instant) -> Option<TruthSample> {
 
 /// The mission at `relative` for ArduPilot, drone n on instance n's SERIAL0.
 fn mission(relative: &str) -> (Mission, swarmctl::plan::DiscretePlan) {
-    fleet::mission(relative, Autopilot::Ardupilot, |n| {
+    mission_edited(relative, |yaml| yaml)
+}
+
+/// [`mission`], its text changed by `edit` first.
+fn mission_edited(
+    relative: &str,
+    edit: impl Fn(String) -> String,
+) -> (Mission, swarmctl::plan::DiscretePlan) {
+    let endpoint = |n: usize| {
         (
             format!("tcpout:127.0.0.1:{}", SERIAL0_BASE + 10 * n as u16),
             n as u8 + 1,
         )
-    })
+    };
+    fleet::mission_edited(relative, Autopilot::Ardupilot, endpoint, edit)
 }
 
 /// One instance per drone, each at the home its pad has under the mission's geo
@@ -235,5 +244,86 @@ async fn ctrl_c_mid_flight_on_real_arducopter_lands_everyone_apart() {
             let apart_m = (a[0] - b[0]).hypot(a[1] - b[1]);
             assert!(apart_m >= d, "two touchdowns {apart_m:.3} m apart");
         }
+    }
+}
+
+/// `fly --dry-run` on real ArduCopters: the whole pre-flight on each vehicle,
+/// every drone reported ready, and nobody armed (each autopilot's own heartbeat
+/// on its truth link never says armed, and no vehicle leaves the ground). Then
+/// the same swarm against a mission that puts b's pad half a metre east of
+/// where its vehicle stands: b is named not ready, off its pad; a is ready.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn dry_run_on_real_arducopter_arms_nobody_and_names_a_vehicle_off_its_pad() {
+    let _one = fleet::ONE_AT_A_TIME.lock().await;
+    let started = Instant::now();
+    let (mission, plan) = mission("missions/swap-corridor.yaml");
+    let fleet = boot_fleet(&mission, started + TEST_LIMIT).await;
+    let mut options = swarmctl::fly::FlyOptions::new(fleet.links.clone());
+    options.ready_timeout = Duration::from_secs(120);
+    let dry_run = |mission: Mission, plan: swarmctl::plan::DiscretePlan| {
+        let options = options.clone();
+        async move {
+            let checked = swarmctl::compiled::compile_plan(&mission, &plan, 0).expect("checked");
+            tokio::time::timeout(
+                TEST_LIMIT,
+                swarmctl::fly::dry_run(&mission, &checked, &options),
+            )
+            .await
+            .expect("dry run within the test's time limit")
+            .expect("dry run runs")
+        }
+    };
+    let dry = dry_run(mission.clone(), plan).await;
+    for d in &dry.drones {
+        let ready = d.readiness.as_ref().expect("every vehicle ready");
+        assert_eq!(ready.autopilot, "ardupilot");
+        println!(
+            "{}: ready, {} default streams turned off {:?}, still on {:?}",
+            d.id,
+            ready.streams_off.len(),
+            ready.streams_off,
+            ready.streams_still_on
+        );
+        assert!(
+            ready.streams_still_on.is_empty(),
+            "{}: kept streaming {:?}",
+            d.id,
+            ready.streams_still_on
+        );
+    }
+    assert!(dry.ready());
+
+    let (moved, moved_plan) = mission_edited("missions/swap-corridor.yaml", |yaml| {
+        yaml.replace(
+            "{ id: b, start: [6, 1, 1] }",
+            "{ id: b, start: [6, 1, 1], pad: [7, 1] }",
+        )
+    });
+    let dry = dry_run(moved, moved_plan).await;
+    assert!(!dry.ready(), "b stands off its pad");
+    assert!(dry.drones[0].readiness.is_ok(), "a is on its pad");
+    let why = dry.drones[1].readiness.as_ref().expect_err("b refused");
+    println!("{why}");
+    assert!(
+        why.starts_with("b:") && why.contains("from its pad"),
+        "{why}"
+    );
+
+    tokio::time::sleep(Duration::from_secs(2)).await;
+    let origin = mission.geo_origin.expect("geo origin");
+    for (n, (armed, track)) in fleet.armed_seen.iter().zip(&fleet.tracks).enumerate() {
+        assert!(
+            !armed.load(std::sync::atomic::Ordering::Relaxed),
+            "vehicle {n} armed"
+        );
+        let track = track.lock().unwrap();
+        assert!(!track.is_empty(), "no truth from vehicle {n}");
+        let heights: Vec<f64> = track
+            .iter()
+            .map(|s| crate::truth::enu_m(&origin, s)[2])
+            .collect();
+        let rise_m = heights.iter().fold(f64::NEG_INFINITY, |m, h| m.max(*h))
+            - heights.iter().fold(f64::INFINITY, |m, h| m.min(*h));
+        assert!(rise_m < 0.1, "vehicle {n} moved {rise_m:.2} m up or down");
     }
 }

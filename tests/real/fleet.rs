@@ -31,6 +31,8 @@ pub struct Fleet {
     pub processes: Vec<Process>,
     pub links: Vec<fly::VehicleLink>,
     pub tracks: Vec<Track>,
+    /// Whether each vehicle ever said it was armed, on its truth link.
+    pub armed_seen: Vec<Arc<std::sync::atomic::AtomicBool>>,
     /// When the flight began (set by [`fly`]): truth instants are reported as
     /// seconds from it, the clock of the flight log's events.
     pub flown_at: std::sync::OnceLock<Instant>,
@@ -60,6 +62,7 @@ impl Fleet {
             processes: Vec::new(),
             links: Vec::new(),
             tracks: Vec::new(),
+            armed_seen: Vec::new(),
             flown_at: std::sync::OnceLock::new(),
         };
         for (n, (_, d)) in mission.drones().enumerate() {
@@ -68,12 +71,15 @@ impl Fleet {
             fleet.processes.push(boot(n, &home));
             let track: Track = Arc::new(Mutex::new(Vec::new()));
             fleet.tracks.push(track.clone());
+            let armed_seen = Arc::new(std::sync::atomic::AtomicBool::new(false));
+            fleet.armed_seen.push(armed_seen.clone());
             tokio::spawn(truth::read(
                 (truth.address)(n),
                 d.system_id.expect("system id"),
                 truth.message_id,
                 truth.sample,
                 track,
+                armed_seen,
                 stop,
             ));
             fleet.links.push(fly::VehicleLink::mavlink(
@@ -96,8 +102,18 @@ pub fn mission(
     autopilot: Autopilot,
     endpoint: impl Fn(usize) -> (String, u8),
 ) -> (Mission, DiscretePlan) {
+    mission_edited(relative, autopilot, endpoint, |yaml| yaml)
+}
+
+/// [`mission`], with its text changed by `edit` first.
+pub fn mission_edited(
+    relative: &str,
+    autopilot: Autopilot,
+    endpoint: impl Fn(usize) -> (String, u8),
+    edit: impl Fn(String) -> String,
+) -> (Mission, DiscretePlan) {
     let path = crate::support::repo_path(relative);
-    let written = std::fs::read_to_string(&path).expect("mission");
+    let written = edit(std::fs::read_to_string(&path).expect("mission"));
     let file = swarmctl::mission::parse_yaml(&written).expect("mission parses");
     let mut yaml = written.clone();
     if !yaml.contains("link:") {

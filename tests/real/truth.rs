@@ -3,7 +3,8 @@
 //! mission ENU metres with geodesy written here (not swarmctl's), so the check
 //! shares no code with what it checks.
 
-use mavlink::dialects::common::{COMMAND_LONG_DATA, MavCmd, MavMessage};
+use mavlink::dialects::common::{COMMAND_LONG_DATA, MavCmd, MavMessage, MavModeFlag};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use swarmctl::mission::Geodetic;
@@ -49,6 +50,7 @@ pub async fn read(
     message_id: u32,
     sample: impl Fn(&MavMessage, Instant) -> Option<TruthSample>,
     track: Track,
+    armed_seen: Arc<AtomicBool>,
     stop: Instant,
 ) {
     use mavlink::AsyncMavConnection;
@@ -83,11 +85,20 @@ pub async fn read(
             let _ = connection.send(&header, &ask).await;
             asked_at = Some(Instant::now());
         }
-        let Ok(Ok((_, message))) =
+        let Ok(Ok((from, message))) =
             tokio::time::timeout(Duration::from_millis(500), connection.recv()).await
         else {
             continue;
         };
+        // The autopilot's own word on a link swarmctl never speaks over.
+        if let MavMessage::HEARTBEAT(h) = &message
+            && from.system_id == u32::from(system_id)
+            && from.component_id == 1
+            && h.base_mode
+                .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED)
+        {
+            armed_seen.store(true, Ordering::Relaxed);
+        }
         if let Some(s) = sample(&message, Instant::now()) {
             track.lock().unwrap().push(s);
         }

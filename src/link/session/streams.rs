@@ -7,14 +7,18 @@ use crate::link::error::LinkError;
 use mavlink::MessageData;
 use mavlink::dialects::common::{
     AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, MavCmd, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+    TIMESYNC_DATA,
 };
 
-/// Messages a vehicle sends in answer to us, not on a schedule: never turned off.
-const ANSWERS: [u32; 4] = [
+/// Messages a vehicle sends in answer to us or as part of a protocol, not as
+/// telemetry: never turned off. ArduCopter refuses to stop TIMESYNC (its clock
+/// exchange with the ground station, a 28-byte frame now and then).
+const NOT_STREAMS: [u32; 5] = [
     COMMAND_ACK_DATA::ID,
     PARAM_VALUE_DATA::ID,
     STATUSTEXT_DATA::ID,
     AUTOPILOT_VERSION_DATA::ID,
+    TIMESYNC_DATA::ID,
 ];
 
 /// What [`Session::quiet_other_streams`] did.
@@ -55,7 +59,7 @@ impl Session {
             .messages_seen
             .iter()
             .filter(|(id, count)| {
-                **count >= PERIODIC_AFTER && !kept.contains(id) && !ANSWERS.contains(id)
+                **count >= PERIODIC_AFTER && !kept.contains(id) && !NOT_STREAMS.contains(id)
             })
             .map(|(id, _)| *id)
             .collect();

@@ -98,6 +98,13 @@ pub struct Args {
     /// takes off (pre-flight must have passed by then).
     #[arg(long, value_name = "SECONDS", default_value_t = fly::StartAt::DEFAULT_TAKEOFF_LEAD.as_secs_f64())]
     pub(super) takeoff_lead: f64,
+    /// Connect to every vehicle and run the whole pre-flight (autopilot,
+    /// readiness, frame and pad, the autopilot's own limits set and read back,
+    /// streams turned down to the link budget), print what is ready and what is
+    /// not, and disconnect without arming anyone. Exits 0 only if the swarm
+    /// would be allowed to fly.
+    #[arg(long)]
+    pub(super) dry_run: bool,
     /// Where the Rerun recording goes (default: beside the flight log).
     #[command(flatten)]
     pub(super) viewer: swarmctl_cli::record::ViewerArgs,

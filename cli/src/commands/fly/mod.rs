@@ -9,6 +9,7 @@
 
 mod args;
 mod bundled_sitl;
+mod dry_run;
 mod plan_source;
 mod recording;
 mod report;
@@ -44,6 +45,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         None => plan_source::plan_now(&mission, (args.deadline, began), args.optimal)?,
     };
     let plan = checked.discrete();
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    let flight = Flight {
+        mission: &mission,
+        checked: &checked,
+        plan: &plan,
+    };
+    if args.dry_run {
+        return runtime.block_on(dry_run::run(&args, &durations, flight));
+    }
     let path = args
         .log
         .clone()
@@ -51,12 +61,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // Recorded live; flying never depends on it (a recorder that fails only warns).
     let recording = recording::start_recording(&args, &mission, checked.compiled(), &path);
     let observer = recording.as_ref().map(|(r, _)| r.observer());
-    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
-    let flight = Flight {
-        mission: &mission,
-        checked: &checked,
-        plan: &plan,
-    };
     let log = match runtime.block_on(fly_async(&args, &durations, flight, observer)) {
         Ok(log) => log,
         Err(refused) => {
@@ -105,6 +109,28 @@ async fn fly_async(
     } = flight;
     let (abort_tx, abort_rx) = tokio::sync::watch::channel(false);
     abort_on_ctrl_c(abort_tx);
+    let (mut options, backing) = prepare(args, durations, mission, plan).await?;
+    options.observers.extend(observer);
+    let status = Arc::new(StatusView::new(if args.plain {
+        StatusMode::Plain
+    } else {
+        StatusMode::Auto
+    }));
+    options.observers.push(status.clone());
+    let result = fly::fly_checked(mission, checked, &options, abort_rx).await;
+    status.finish();
+    backing.shutdown().await;
+    Ok(result?)
+}
+
+/// The vehicles' links (started here for the bundled SITL) and the options a
+/// flight or a dry run of `plan` uses.
+async fn prepare(
+    args: &Args,
+    durations: &Durations,
+    mission: &Mission,
+    plan: &DiscretePlan,
+) -> anyhow::Result<(FlyOptions, Backing)> {
     let source = match &args.signing_key_file {
         Some(file) => Some(KeySource::File(file.clone())),
         None => mission.link.signing.clone(),
@@ -124,21 +150,11 @@ async fn fly_async(
         deadline: durations.replan_deadline,
         max_replans: args.max_replans,
     };
-    options.observers.extend(observer);
-    let status = Arc::new(StatusView::new(if args.plain {
-        StatusMode::Plain
-    } else {
-        StatusMode::Auto
-    }));
-    options.observers.push(status.clone());
     if signing_key.is_some() {
         eprintln!("MAVLink 2 signing on: unsigned or wrongly signed messages are refused");
     }
     options.signing_key = signing_key;
-    let result = fly::fly_checked(mission, checked, &options, abort_rx).await;
-    status.finish();
-    backing.shutdown().await;
-    Ok(result?)
+    Ok((options, backing))
 }
 
 /// On Ctrl-C every drone holds, then lands (the flight sees `abort_tx`); a second
