@@ -37,8 +37,7 @@ fn print_dry_run(mission: &str, dry: &DryRun) {
     for d in &dry.drones {
         match &d.readiness {
             Ok(v) => {
-                // + 0.0 prints a rounded -0 as 0.
-                let [e, n, u] = v.local_origin_enu_m.map(|x| x + 0.0);
+                let [e, n, u] = v.local_origin_enu_m.map(centimetres);
                 let kept = if v.streams_still_on.is_empty() {
                     String::new()
                 } else {
@@ -48,7 +47,7 @@ fn print_dry_run(mission: &str, dry: &DryRun) {
                     )
                 };
                 println!(
-                    "  {:<8} ready      {}, frame {}, local origin E {e:.2} N {n:.2} U {u:.2} m, {} default streams turned off{kept}",
+                    "  {:<8} ready      {}, frame {}, local origin E {e} N {n} U {u} m, {} default streams turned off{kept}",
                     d.id,
                     v.autopilot,
                     frame_text(v.frame),
@@ -99,6 +98,12 @@ fn print_dry_run(mission: &str, dry: &DryRun) {
             not_ready.join(", ")
         );
     }
+}
+
+/// Metres to the centimetre, a value that rounds to zero printed as 0.00 (not -0.00).
+fn centimetres(m: f64) -> String {
+    // Adding +0.0 turns the -0.0 that rounding leaves into 0.0.
+    format!("{:.2}", (m * 100.0).round() / 100.0 + 0.0)
 }
 
 fn frame_text(fix: FrameFix) -> &'static str {
