@@ -1,9 +1,9 @@
 //! Random missions in the style of the paper's experiments.
 
-use crate::mission::MissionFile;
 use crate::mission::schema::{
     DroneSpec, GroupSpec, LimitsSpec, LinkSpec, ObstacleSpec, StageSpec, WorldSpec,
 };
+use crate::mission::{FenceSpec, MissionFile};
 use crate::world::{Voxel, VoxelGrid};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
@@ -182,6 +182,7 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         groups: group_specs,
         stages: stage_specs,
         landing: None,
+        fence: FenceSpec::default(),
     })
 }
 

@@ -3,8 +3,10 @@
 //! flying, RTL on a critical battery, and its parameter table.
 
 use crate::config::VehicleConfig;
+use crate::fence::FenceRule;
 use crate::imitation::{Imitation, ModeRequestError};
 use crate::mode::FlightMode;
+use crate::params::Params;
 use crate::vehicle::Vehicle;
 use mavlink::dialects::common::{MavAutopilot, MavProtocolCapability, MavResult};
 
@@ -142,6 +144,10 @@ impl Imitation for ArduPilot {
         MavResult::MAV_RESULT_ACCEPTED
     }
 
+    fn fence(&self, params: &Params) -> Option<FenceRule> {
+        fence(params)
+    }
+
     fn params(&self, config: &VehicleConfig) -> Vec<(&'static str, f32)> {
         vec![
             ("PILOT_TKOFF_ALT", 250.0),
@@ -159,9 +165,43 @@ impl Imitation for ArduPilot {
             ("WPNAV_SPEED_DN", 150.0),
             ("LAND_SPEED", 70.0),
             ("FS_GCS_ENABLE", 0.0),
+            // ArduCopter's fence defaults: off; altitude, circle and polygon;
+            // RTL or land.
+            ("FENCE_ENABLE", 0.0),
+            ("FENCE_TYPE", 7.0),
+            ("FENCE_ACTION", 1.0),
+            ("FENCE_ALT_MAX", 100.0),
+            ("FENCE_RADIUS", 300.0),
+            ("FENCE_MARGIN", 2.0),
             ("SYSID_THISMAV", f32::from(config.system_id)),
         ]
     }
+}
+
+/// ArduCopter's fence: on with `FENCE_ENABLE`; `FENCE_TYPE` bit 1 the maximum
+/// altitude, bit 2 the circle (the mock keeps no polygon); `FENCE_ACTION` 0
+/// reports, 2 lands, 4 brakes, the others return (RTL).
+pub(crate) fn fence(params: &Params) -> Option<FenceRule> {
+    if params.get("FENCE_ENABLE") != Some(1.0) {
+        return None;
+    }
+    let types = params.get("FENCE_TYPE").unwrap_or(0.0) as u32;
+    let action = match params.get("FENCE_ACTION").map(|a| a as u32) {
+        Some(0) => None,
+        Some(2) => Some(FlightMode::Land),
+        Some(4) => Some(FlightMode::Hold),
+        _ => Some(FlightMode::ReturnToLaunch),
+    };
+    Some(FenceRule {
+        radius_m: (types & 2 != 0)
+            .then(|| crate::fence::limit(params.get("FENCE_RADIUS")))
+            .flatten(),
+        max_altitude_m: (types & 1 != 0)
+            .then(|| crate::fence::limit(params.get("FENCE_ALT_MAX")))
+            .flatten(),
+        action,
+        breach_text: "Fence Breached",
+    })
 }
 
 #[cfg(test)]

@@ -98,6 +98,10 @@ pub struct Faults {
     /// under gravity (straight down from a hover) and lies where it hits the
     /// ground, and its link goes silent for good (nothing reports a crash).
     pub crash_after_takeoff: Option<Duration>,
+    /// This long after takeoff a rogue ground station takes the vehicle over in
+    /// GUIDED or OFFBOARD, sending it far west (`faults::ROGUE_TARGET_WEST_M`):
+    /// only its own geofence stops it.
+    pub rogue_after_takeoff: Option<Duration>,
 }
 
 impl Default for Faults {
@@ -113,6 +117,7 @@ impl Default for Faults {
             low_battery_after: None,
             critical_battery_after: None,
             crash_after_takeoff: None,
+            rogue_after_takeoff: None,
         }
     }
 }

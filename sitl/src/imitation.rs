@@ -8,7 +8,9 @@
 //! one variant of [`Flavour`] with its arm in [`Flavour::imitation`].
 
 use crate::config::{Flavour, VehicleConfig};
+use crate::fence::FenceRule;
 use crate::mode::FlightMode;
+use crate::params::Params;
 use crate::vehicle::Vehicle;
 use mavlink::dialects::common::{MavAutopilot, MavProtocolCapability, MavResult};
 
@@ -71,6 +73,9 @@ pub(crate) trait Imitation: Sync {
 
     /// The firmware's parameter table for a vehicle (names and defaults).
     fn params(&self, config: &VehicleConfig) -> Vec<(&'static str, f32)>;
+
+    /// The geofence its parameters set, if it is on.
+    fn fence(&self, params: &Params) -> Option<FenceRule>;
 }
 
 impl Flavour {

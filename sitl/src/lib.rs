@@ -32,6 +32,7 @@ pub mod config;
 pub mod dynamics;
 pub mod error;
 pub mod faults;
+pub mod fence;
 pub mod forge;
 pub mod geo;
 mod imitation;

@@ -3,8 +3,10 @@
 //! MIS_TAKEOFF_ALT), LAND on a critical battery, and its parameter table.
 
 use crate::config::VehicleConfig;
+use crate::fence::FenceRule;
 use crate::imitation::{Imitation, ModeRequestError};
 use crate::mode::FlightMode;
+use crate::params::Params;
 use crate::vehicle::Vehicle;
 use mavlink::dialects::common::{MavAutopilot, MavProtocolCapability, MavResult};
 
@@ -164,6 +166,10 @@ impl Imitation for Px4 {
         MavResult::MAV_RESULT_ACCEPTED
     }
 
+    fn fence(&self, params: &Params) -> Option<FenceRule> {
+        fence(params)
+    }
+
     fn params(&self, config: &VehicleConfig) -> Vec<(&'static str, f32)> {
         vec![
             ("MIS_TAKEOFF_ALT", DEFAULT_TAKEOFF_ALT_M),
@@ -181,8 +187,33 @@ impl Imitation for Px4 {
             ("MPC_Z_VEL_MAX_DN", 1.5),
             ("MPC_Z_VEL_MAX_UP", 3.0),
             ("MAV_SYS_ID", f32::from(config.system_id)),
+            // PX4's geofence defaults: no distances, action hold. GF_ACTION is an
+            // INT32, kept bit for bit in the float (byte-wise encoding).
+            ("GF_MAX_HOR_DIST", 0.0),
+            ("GF_MAX_VER_DIST", 0.0),
+            ("GF_ACTION", f32::from_bits(2)),
         ]
     }
+}
+
+/// PX4's geofence: `GF_MAX_HOR_DIST` and `GF_MAX_VER_DIST` from home (0: none);
+/// `GF_ACTION` 0 none, 1 warns, 2 holds, 3 returns, 4 (terminate) and 5 land.
+pub(crate) fn fence(params: &Params) -> Option<FenceRule> {
+    let action = params.get("GF_ACTION").map(|a| a.to_bits() as i32)?;
+    let action = match action {
+        1 => None,
+        2 => Some(FlightMode::Hold),
+        3 => Some(FlightMode::ReturnToLaunch),
+        4 | 5 => Some(FlightMode::Land),
+        _ => return None,
+    };
+    let rule = FenceRule {
+        radius_m: crate::fence::limit(params.get("GF_MAX_HOR_DIST")),
+        max_altitude_m: crate::fence::limit(params.get("GF_MAX_VER_DIST")),
+        action,
+        breach_text: "Geofence violation",
+    };
+    (rule.radius_m.is_some() || rule.max_altitude_m.is_some()).then_some(rule)
 }
 
 /// A float command parameter as a small integer, if it is one.

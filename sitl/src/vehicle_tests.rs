@@ -824,3 +824,109 @@ fn timesync_requests_for_another_system_are_not_answered() {
     v.handle(GCS, &request(1, 1));
     assert!(matches!(v.outbox.as_slice(), [MavMessage::TIMESYNC(t)] if t.tc1 > 0 && t.ts1 == 7));
 }
+
+/// Sets parameter `name` as a ground station does, the value in the float field
+/// as the firmware encodes it.
+fn set_param(v: &mut Vehicle, name: &str, value: f32, param_type: MavParamType) {
+    v.handle(
+        GCS,
+        &MavMessage::PARAM_SET(PARAM_SET_DATA {
+            param_value: value,
+            target_system: v.system_id,
+            target_component: 1,
+            param_id: name.into(),
+            param_type,
+        }),
+    );
+}
+
+/// Each firmware's fence, set by its own parameters: a vehicle flown past its
+/// circle announces the breach once and lands (PX4 `GF_ACTION` 5 as an INT32's
+/// bits, ArduPilot `FENCE_ACTION` 2); the rogue ground station that sent it there
+/// cannot keep it.
+#[test]
+fn a_vehicle_past_its_fence_announces_the_breach_and_lands() {
+    for flavour in Flavour::ALL {
+        let faults = Faults {
+            rogue_after_takeoff: Some(Duration::from_secs(4)),
+            ..Faults::default()
+        };
+        let mut v = vehicle(flavour, faults);
+        let real = MavParamType::MAV_PARAM_TYPE_REAL32;
+        match flavour {
+            Flavour::Px4 => {
+                set_param(&mut v, "GF_MAX_HOR_DIST", 6.0, real);
+                set_param(&mut v, "GF_MAX_VER_DIST", 10.0, real);
+                let land = f32::from_bits(5);
+                set_param(
+                    &mut v,
+                    "GF_ACTION",
+                    land,
+                    MavParamType::MAV_PARAM_TYPE_INT32,
+                );
+            }
+            Flavour::ArduPilot => {
+                for (name, value) in [
+                    ("FENCE_TYPE", 3.0),
+                    ("FENCE_ACTION", 2.0),
+                    ("FENCE_ALT_MAX", 10.0),
+                    ("FENCE_RADIUS", 6.0),
+                    ("FENCE_ENABLE", 1.0),
+                ] {
+                    set_param(&mut v, name, value, real);
+                }
+            }
+        }
+        let home = v.body.position_ned_m;
+        match flavour {
+            Flavour::Px4 => {
+                assert_eq!(arm(&mut v), MavResult::MAV_RESULT_ACCEPTED);
+                for _ in 0..30 {
+                    position_target(&mut v, [home[0], home[1], -3.0]);
+                    run(&mut v, 0.05);
+                }
+                assert_eq!(set_mode(&mut v, 6.0, 0.0), MavResult::MAV_RESULT_ACCEPTED);
+                for _ in 0..60 {
+                    position_target(&mut v, [home[0], home[1], -3.0]);
+                    run(&mut v, 0.05);
+                }
+            }
+            Flavour::ArduPilot => {
+                set_mode(&mut v, 4.0, 0.0);
+                assert_eq!(arm(&mut v), MavResult::MAV_RESULT_ACCEPTED);
+                command(
+                    &mut v,
+                    MavCmd::MAV_CMD_NAV_TAKEOFF,
+                    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 3.0],
+                );
+                run(&mut v, 3.0);
+            }
+        }
+        assert!(v.airborne(), "{flavour:?} took off");
+        let mut farthest_m = 0.0f32;
+        for _ in 0..600 {
+            // The controller keeps streaming its own hold: the rogue wins.
+            position_target(&mut v, [home[0], home[1], -3.0]);
+            run(&mut v, 0.05);
+            let p = v.body.position_ned_m;
+            farthest_m = farthest_m.max((p[0] - home[0]).hypot(p[1] - home[1]));
+        }
+        let breaches = status_texts(&v)
+            .into_iter()
+            .filter(|(_, text)| text.to_ascii_lowercase().contains("fence"))
+            .count();
+        assert_eq!(breaches, 1, "{flavour:?}: {:?}", status_texts(&v));
+        // Past the fence by at most its braking distance at full speed.
+        let braking_m = v.limits.max_speed_mps.powi(2) / (2.0 * v.limits.max_accel_mps2);
+        assert!(
+            farthest_m > 6.0 && farthest_m < 6.0 + braking_m + 0.1,
+            "{flavour:?}: stopped at its fence, farthest {farthest_m} m (braking {braking_m} m)"
+        );
+        let p = v.body.position_ned_m;
+        assert!(
+            v.landed() && !v.armed,
+            "{flavour:?} landed and disarmed, at {p:?} in mode {:?}",
+            v.mode
+        );
+    }
+}

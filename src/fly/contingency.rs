@@ -19,12 +19,19 @@
 //!   are released and the swarm resumes without it.
 //! - **Autopilot failsafe** (the vehicle switched itself to land or return): we
 //!   do not fight it. The swarm pauses until it has landed, then resumes as above.
+//! - **Left the airspace** (by telemetry, beyond the tracking bound: its own
+//!   geofence stopped it out there, or a rogue ground station or a flyaway took
+//!   it): it can no longer fly its plan, and below it is nobody's airspace. It is
+//!   put in its autopilot's land mode where it is (unless its fence already
+//!   landed it) and retired like an autopilot failsafe; the swarm pauses while it
+//!   comes down.
 
 use super::drone::DroneRun;
 use super::follower::Hold;
 use super::log::LogEvent;
 use super::phase::Phase;
 pub use super::phase::{RetireStage, Retirement};
+use super::settings::LoopSettings;
 
 /// Battery at or below this share (SYS_STATUS battery_remaining) ends its plan.
 pub const LOW_BATTERY_PCT: i8 = 25;
@@ -188,21 +195,35 @@ pub fn track_lost(
     }
 }
 
-/// Starts retiring drones whose battery is low or whose autopilot took over.
-pub fn detect_retirement(drones: &mut [DroneRun], since_arm_s: f64, events: &mut Vec<LogEvent>) {
+/// Starts retiring drones that left the airspace, whose battery is low or whose
+/// autopilot took over.
+pub fn detect_retirement(
+    drones: &mut [DroneRun],
+    settings: &LoopSettings,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
     for d in drones.iter_mut() {
         if !matches!(d.phase(), Phase::Flying | Phase::AtGoal) || d.link_lost() {
             continue;
         }
-        let (battery, mode) = {
+        if let Some(outside_m) = d.outside_airspace_m(settings) {
+            retire_outside(d, outside_m, since_arm_s, events);
+            continue;
+        }
+        let (battery, mode, fence_text) = {
             let s = d.session().state();
-            (s.battery_remaining_pct, s.custom_mode)
+            (s.battery_remaining_pct, s.custom_mode, s.fence_text.clone())
         };
         let (why, message, stage) = if d.flavour().is_failsafe_mode(mode) {
+            // Its own fence is the one failsafe that says why in so many words.
+            let cause = fence_text
+                .map(|text| format!(", its geofence: \"{text}\""))
+                .unwrap_or_default();
             (
                 Retirement::AutopilotFailsafe,
                 format!(
-                    "autopilot failsafe took over (mode {mode:#x}): the swarm pauses while it lands"
+                    "autopilot failsafe took over (mode {mode:#x}{cause}): the swarm pauses while it lands"
                 ),
                 RetireStage::AutopilotLanding,
             )
@@ -218,6 +239,33 @@ pub fn detect_retirement(drones: &mut [DroneRun], since_arm_s: f64, events: &mut
         events.push(LogEvent::new(since_arm_s, Some(d.id()), &message));
         d.retire(why, stage);
     }
+}
+
+/// Retires a drone `outside_m` outside the airspace: lands it where it is unless
+/// its autopilot is bringing it down already, and says who took it there when
+/// its autopilot told (its geofence).
+fn retire_outside(d: &mut DroneRun, outside_m: f64, since_arm_s: f64, events: &mut Vec<LogEvent>) {
+    let (mode, fence_text) = {
+        let s = d.session().state();
+        (s.custom_mode, s.fence_text.clone())
+    };
+    let fence = fence_text
+        .map(|text| format!(" (its geofence: \"{text}\")"))
+        .unwrap_or_default();
+    let landing = if d.flavour().is_failsafe_mode(mode) {
+        format!("its autopilot is bringing it down (mode {mode:#x})")
+    } else {
+        d.land_outside_airspace();
+        "landing it where it is, below it nobody's airspace".to_string()
+    };
+    events.push(LogEvent::new(
+        since_arm_s,
+        Some(d.id()),
+        &format!(
+            "left the airspace: {outside_m:.1} m outside it{fence}; out of the plan, {landing}; the swarm pauses while it comes down"
+        ),
+    ));
+    d.retire(Retirement::LeftAirspace, RetireStage::AutopilotLanding);
 }
 
 /// Moves retiring drones on: descend once the swarm is at rest and the column is

@@ -1,7 +1,7 @@
 //! `fly --dry-run`: everything a flight does before arming, on every vehicle,
 //! and nothing after. It connects, runs the whole pre-flight (heartbeat and
-//! autopilot, readiness, each vehicle's frame and pad, its own limits set and
-//! read back, the streams the link budget has no room for turned off) and
+//! autopilot, readiness, each vehicle's frame and pad, its own limits and its
+//! fence set and read back, the streams the link budget has no room for turned off) and
 //! weighs the link budget, then drops the sessions without arming anyone.
 //!
 //! Unlike a flight, which stops at the first vehicle that fails, a dry run
@@ -54,6 +54,9 @@ pub struct ReadyVehicle {
     pub streams_off: Vec<u32>,
     /// Message ids it kept streaming after being asked to stop.
     pub streams_still_on: Vec<u32>,
+    /// The fence set on it and read back (it stays set); `None` when the mission
+    /// sets none.
+    pub fence: Option<super::VehicleFence>,
 }
 
 /// Runs the pre-flight of a flight of `plan` on every vehicle of `options` and
@@ -81,6 +84,7 @@ pub async fn dry_run(
                 local_origin_enu_m: c.placed.frame.local_origin_enu_m(),
                 streams_off: c.quieted.off,
                 streams_still_on: c.quieted.still_on,
+                fence: c.fence,
             }),
         })
         .collect();

@@ -228,7 +228,7 @@ impl<'a> Flight<'a> {
         let events = &mut self.out.events;
         contingency::track_lost(self.drones, self.settings.lost_after_s, since_arm_s, events);
         if !self.landing_started {
-            contingency::detect_retirement(self.drones, since_arm_s, events);
+            contingency::detect_retirement(self.drones, &self.settings, since_arm_s, events);
         }
         contingency::advance_retirements(self.drones, clearance, since_arm_s, events);
         contingency::release_landed(self.drones, self.settings.ground_clear, since_arm_s, events);

@@ -24,6 +24,7 @@ mod drone;
 mod dry_run;
 mod error;
 mod executor;
+mod fence;
 mod follower;
 mod freeze;
 mod gate;
@@ -49,6 +50,7 @@ mod vehicle_limits;
 
 pub use dry_run::{DryRun, DryRunDrone, ReadyVehicle, dry_run};
 pub use error::FlyError;
+pub use fence::{FencePlan, VehicleFence};
 pub use lateness::{EventLateness, LatenessSummary};
 pub use link_traffic::LinkTraffic;
 pub use log::{
@@ -177,7 +179,7 @@ pub async fn fly_checked(
         check: plan.figures(),
     };
     let summary = report::summary(&flown, &outcome);
-    let mut events = report::stream_events(&ids, &checked);
+    let mut events = report::preflight_events(&ids, &checked);
     events.extend(outcome.events);
     Ok(FlightLog {
         mission: mission.name.clone(),
@@ -212,6 +214,7 @@ fn preflight_limits(
         ready_timeout,
         start_tolerance_m: options.start_tolerance_m,
         position_rate_hz: mission.link.setpoint_rate_hz,
+        fence: FencePlan::of(mission),
     }
 }
 
@@ -246,6 +249,7 @@ fn loop_settings(mission: &Mission, options: &FlyOptions, planned_makespan_s: f6
         // Drones fly at cell centres; the lowest, the pad layer's, at the pad height.
         ground_clear: mission.pad_height_m() >= l.safety_distance_m,
         plan_start: options.start_at.map(|s| s.instant()),
+        airspace: fence::AirspaceBox::of(mission),
     }
 }
 

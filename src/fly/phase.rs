@@ -31,6 +31,10 @@ pub enum Retirement {
     LowBattery,
     /// The autopilot switched itself to land or return: we let it.
     AutopilotFailsafe,
+    /// Outside the mission's airspace by telemetry, beyond the tracking bound (its
+    /// own geofence stopped it, or a rogue ground station or a flyaway took it
+    /// there): landed where it is, in nobody's airspace.
+    LeftAirspace,
 }
 
 /// Where a retiring drone is on its way down.

@@ -4,6 +4,7 @@
 
 use super::autopilot::{self, Flavour};
 use super::error::FlyError;
+use super::fence::{self, FencePlan, VehicleFence};
 use super::placement::{self, FrameSource, Placed, PlacementRules};
 use crate::link::{Quieted, Session};
 use crate::mission::{Geodetic, Limits};
@@ -32,6 +33,8 @@ pub struct PreflightLimits {
     pub start_tolerance_m: f64,
     /// Rate at which position telemetry is requested.
     pub position_rate_hz: f64,
+    /// The fence each vehicle is given around the airspace; `None`: left as it is.
+    pub fence: Option<FencePlan>,
 }
 
 /// How long pre-flight listens before it turns off the streams the link budget
@@ -120,6 +123,15 @@ async fn check_one(
         &limits.commanded_limits,
     )
     .await?;
+    // Last: a vehicle refused before this keeps the fence it had.
+    let fence = match limits.fence {
+        Some(plan) => {
+            let fence = plan.for_pad(pad_enu_m);
+            fence::apply(&id, &session, flavour, &fence).await?;
+            Some(fence)
+        }
+        None => None,
+    };
     // Long enough to have heard every stream of 1 Hz or faster twice.
     tokio::time::sleep_until((checks_started + STREAMS_HEARD_WITHIN).into()).await;
     let quieted = session.quiet_other_streams().await;
@@ -128,6 +140,7 @@ async fn check_one(
         placed,
         accel_lead_s,
         quieted,
+        fence,
     })
 }
 
@@ -187,6 +200,8 @@ pub struct Checked {
     /// The default streams turned off to keep to the link budget, and any the
     /// vehicle kept sending.
     pub quieted: Quieted,
+    /// The fence set on it and read back; `None` when the mission sets none.
+    pub fence: Option<VehicleFence>,
 }
 
 /// Runs every check concurrently and returns each vehicle's flavour and frame, or

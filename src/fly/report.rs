@@ -96,21 +96,45 @@ pub fn link_traffic(
         .collect()
 }
 
-/// One event per vehicle that kept sending streams the link budget has no room
-/// for (pre-flight asked it to stop them), at time 0.
-pub fn stream_events(ids: &[String], checked: &[Checked]) -> Vec<LogEvent> {
-    ids.iter()
-        .zip(checked)
-        .filter(|(_, c)| !c.quieted.still_on.is_empty())
-        .map(|(id, c)| LogEvent {
+/// What pre-flight left on each vehicle, at time 0: the fence set on it, and the
+/// streams the link budget has no room for that it kept sending when asked to stop.
+pub fn preflight_events(ids: &[String], checked: &[Checked]) -> Vec<LogEvent> {
+    let mut events = Vec::new();
+    let fences: Vec<_> = checked.iter().filter_map(|c| c.fence).collect();
+    if let Some(first) = fences.first() {
+        let widest = |f: fn(&super::VehicleFence) -> f64| {
+            fences
+                .iter()
+                .map(f)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                })
+        };
+        let (r_lo, r_hi) = widest(|f| f.radius_m);
+        let (a_lo, a_hi) = widest(|f| f.max_altitude_m);
+        events.push(LogEvent {
             t_s: 0.0,
-            drone: Some(id.clone()),
+            drone: None,
             message: format!(
-                "kept streaming message ids {:?} after pre-flight asked it to stop: they spend link capacity the budget does not count",
-                c.quieted.still_on
+                "fence set and read back on {} vehicles: {r_lo:.1}–{r_hi:.1} m around each pad, {a_lo:.1}–{a_hi:.1} m above it, action {}; it stays set after the flight",
+                fences.len(),
+                first.action
             ),
-        })
-        .collect()
+        });
+    }
+    for (id, c) in ids.iter().zip(checked) {
+        if !c.quieted.still_on.is_empty() {
+            events.push(LogEvent {
+                t_s: 0.0,
+                drone: Some(id.clone()),
+                message: format!(
+                    "kept streaming message ids {:?} after pre-flight asked it to stop: they spend link capacity the budget does not count",
+                    c.quieted.still_on
+                ),
+            });
+        }
+    }
+    events
 }
 
 /// How the flight went, for the log and the command line.

@@ -38,4 +38,7 @@ pub struct LoopSettings {
     /// a drone not above its pad by then aborts the flight. `None`: as soon as
     /// every drone is above its pad.
     pub plan_start: Option<std::time::Instant>,
+    /// The box of the mission's airspace: a drone outside it by more than
+    /// `tracking_error_m` has left the plan for good (`contingency`).
+    pub airspace: super::fence::AirspaceBox,
 }

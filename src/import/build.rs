@@ -1,8 +1,8 @@
 //! The mission every imported instance becomes: a 1 m voxel world and the default
 //! limits, since community formats carry neither.
 
-use crate::mission::MissionFile;
 use crate::mission::schema::{GroupSpec, LimitsSpec, LinkSpec, ObstacleSpec, WorldSpec};
+use crate::mission::{FenceSpec, MissionFile};
 use std::path::Path;
 
 /// Limits given to imported instances, which carry none of their own: 1 m voxels,
@@ -34,6 +34,7 @@ pub(crate) fn mission_file(
         groups,
         stages: Vec::new(),
         landing: None,
+        fence: FenceSpec::default(),
     }
 }
 

@@ -20,7 +20,7 @@ mod transport;
 pub use error::LinkError;
 pub use frames::VehicleFrame;
 pub use mode::ModeRequest;
-pub use session::{CommandPolicy, Quieted, Session};
+pub use session::{CommandPolicy, ParamValue, Quieted, Session};
 pub use signing::{SigningKey, SigningKeyError};
 pub use telemetry::{PositionSample, VehicleState};
 pub use transport::{CarriedLink, Carrier, CarrierInbox, LinkBytes, carried};

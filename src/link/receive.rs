@@ -38,7 +38,9 @@
 use super::messages::{AUTOPILOT_COMPONENT_ID, GCS_COMPONENT_ID, GCS_SYSTEM_ID};
 use super::telemetry::{PositionSample, VehicleState};
 use crate::mission::Geodetic;
-use mavlink::dialects::common::{COMMAND_ACK_DATA, MavMessage, MavModeFlag, MavSysStatusSensor};
+use mavlink::dialects::common::{
+    COMMAND_ACK_DATA, MavMessage, MavModeFlag, MavParamType, MavSysStatusSensor,
+};
 use mavlink::{MavHeader, Message};
 use std::time::Instant;
 
@@ -119,7 +121,12 @@ pub fn fold(
         MavMessage::HOME_POSITION(h) if from_autopilot => {
             state.home = geodetic(h.latitude, h.longitude, h.altitude).or(state.home);
         }
-        MavMessage::PARAM_VALUE(v) if from_autopilot && v.param_value.is_finite() => {
+        // PX4 sends an INT32's bits in the float field (-1 reads as a NaN).
+        MavMessage::PARAM_VALUE(v)
+            if from_autopilot
+                && (v.param_value.is_finite()
+                    || v.param_type == MavParamType::MAV_PARAM_TYPE_INT32) =>
+        {
             if let Ok(name) = v.param_id.to_str() {
                 state.params.insert(name.to_string(), v.param_value);
             }
@@ -130,6 +137,11 @@ pub fn fold(
                 && is_prearm_reason(text)
             {
                 state.prearm_reason = Some(text.clone());
+            }
+            if let Some(text) = &state.last_status_text
+                && text.to_ascii_lowercase().contains("fence")
+            {
+                state.fence_text = Some(text.clone());
             }
         }
         MavMessage::COMMAND_ACK(a) if addressed_to_us(&a) => return Some(a),

@@ -49,6 +49,10 @@ pub struct VehicleState {
     /// The latest STATUSTEXT about pre-arm checks (ArduPilot's "PreArm: …", PX4's
     /// "Preflight Fail: …"): why the vehicle will not arm.
     pub prearm_reason: Option<String>,
+    /// The latest STATUSTEXT about the geofence (ArduPilot's "Fence Breached…",
+    /// PX4's "Geofence…"): why an autopilot took a vehicle over, when it was its
+    /// fence.
+    pub fence_text: Option<String>,
     /// GPS_GLOBAL_ORIGIN: the geodetic point where the vehicle's local frame is zero.
     pub gps_origin: Option<Geodetic>,
     /// HOME_POSITION's geodetic point (where the vehicle armed or booted).

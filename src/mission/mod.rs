@@ -16,7 +16,10 @@ pub use contest::{Contest, contested};
 pub use error::{MissionError, Problem};
 pub use legs::{Leg, LegKind, Targets};
 pub use load::{from_yaml, load, parse_yaml};
-pub use schema::{Autopilot, Landing, MissionFile, RadioSpec, RelaySpec, SigningSpec, ZenohSpec};
+pub use schema::{
+    Autopilot, FenceAction, FenceSpec, Landing, MissionFile, RadioSpec, RelaySpec, SigningSpec,
+    ZenohSpec,
+};
 pub use template::TEMPLATE;
 pub use types::{
     DEFAULT_MAX_JERK_MPS3, DEFAULT_TRACKING_ERROR_M, Drone, Geodetic, Group, KeySource, Limits,

@@ -1,7 +1,7 @@
 //! A validated mission: every field checked, coordinates inside the world.
 
 pub use super::schema::Geodetic;
-use super::schema::{Autopilot, Landing, RadioSpec, RelaySpec, ZenohSpec};
+use super::schema::{Autopilot, FenceSpec, Landing, RadioSpec, RelaySpec, ZenohSpec};
 use crate::world::{Separation, VerticalReach, Voxel, VoxelGrid};
 use serde::{Deserialize, Serialize};
 
@@ -36,6 +36,8 @@ pub struct Mission {
     pub stages: Vec<Stage>,
     /// Where the drones land at the end.
     pub landing: Landing,
+    /// The geofence every autopilot is given at pre-flight (see `fly::fence`).
+    pub fence: FenceSpec,
 }
 
 /// One formation after the groups' first one.

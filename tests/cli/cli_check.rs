@@ -164,6 +164,46 @@ fn check_prints_the_link_budget_per_drone_and_per_radio() {
         .stdout(contains("own links  2 drones on no radio"));
 }
 
+/// The formation change's airspace is x −0.5…7.5 m, y −0.5…5.5 m, up to 4 m (its
+/// top layer's centre 3.5 m): from a pad at y 1 or 4 (x 0 or 7) the farthest corner
+/// is 7.5 m across and 4.5 m along, a circle of √(7.5² + 4.5²) + 2 = 10.7 m; from
+/// y 2 or 3 it is 3.5 m along, √(7.5² + 3.5²) + 2 = 10.3 m. Each ceiling is
+/// 4 + 2 = 6 m.
+#[test]
+fn check_prints_the_fence_each_autopilot_gets_and_refuses_a_bad_margin() {
+    let mission = crate::support::repo_path("missions/formation-change.yaml");
+    swarmctl()
+        .arg("check")
+        .arg(&mission)
+        .assert()
+        .success()
+        .stdout(contains(
+            "fence      airspace + 2.0 m: 10.3–10.7 m around each pad, 6.0 m above it; on a breach the autopilot does: land",
+        ));
+    let text = std::fs::read_to_string(&mission).expect("mission");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("fence.yaml");
+    std::fs::write(
+        &path,
+        format!("{text}\nfence: {{ margin_m: 0.1, action: report }}\n"),
+    )
+    .expect("write");
+    swarmctl()
+        .arg("check")
+        .arg(&path)
+        .assert()
+        .failure()
+        .stderr(contains("fence.yaml"))
+        .stderr(contains("fence.margin_m: must be 0.5 to 100 m"));
+    std::fs::write(&path, format!("{text}\nfence: {{ enabled: false }}\n")).expect("write");
+    swarmctl()
+        .arg("check")
+        .arg(&path)
+        .assert()
+        .success()
+        .stdout(contains("fence      off (fence.enabled: false)"));
+}
+
 #[test]
 fn an_over_full_radio_is_refused_with_the_numbers_and_the_fixes() {
     let (_dir, path) = formation_change_on(

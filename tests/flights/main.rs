@@ -10,6 +10,7 @@ mod fault_matrix;
 mod fly_common;
 mod fly_downwash;
 mod fly_faults;
+mod fly_fence;
 mod fly_formation;
 mod fly_paper_scale;
 mod fly_preflight;

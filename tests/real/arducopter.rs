@@ -15,6 +15,8 @@ use swarmctl::mission::{Autopilot, Geodetic, Mission};
 /// ArduCopter's SITL serial ports: SERIAL0 at 5760 + 10·N, SERIAL1 at 5762 + 10·N.
 const SERIAL0_BASE: u16 = 5760;
 const SERIAL1_BASE: u16 = 5762;
+/// SERIAL2, a MAVLink port nobody else uses: the rogue ground station's.
+const SERIAL2_BASE: u16 = 5763;
 /// A whole test, boot (about 40 s) to the last touchdown.
 const TEST_LIMIT: Duration = Duration::from_secs(400);
 
@@ -252,8 +254,10 @@ async fn ctrl_c_mid_flight_on_real_arducopter_lands_everyone_apart() {
 /// on its truth link never says armed, and no vehicle leaves the ground). Then
 /// the same swarm against a mission that puts b's pad half a metre east of
 /// where its vehicle stands: b is named not ready, off its pad; a is ready.
+/// Last, the fence the dry run left on a is read back apart from swarmctl and
+/// tried by a rogue ground station.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn dry_run_on_real_arducopter_arms_nobody_and_names_a_vehicle_off_its_pad() {
+async fn dry_run_on_real_arducopter_arms_nobody_sets_the_fence_and_names_a_vehicle_off_its_pad() {
     let _one = fleet::ONE_AT_A_TIME.lock().await;
     let started = Instant::now();
     let (mission, plan) = mission("missions/swap-corridor.yaml");
@@ -326,4 +330,96 @@ async fn dry_run_on_real_arducopter_arms_nobody_and_names_a_vehicle_off_its_pad(
             - heights.iter().fold(f64::INFINITY, |m, h| m.min(*h));
         assert!(rise_m < 0.1, "vehicle {n} moved {rise_m:.2} m up or down");
     }
+    rogue_is_held_by_the_fence_the_dry_run_set(&mission, &fleet).await;
+}
+
+/// After a dry run, the fence it set on vehicle a, read back on a ground
+/// station's link of its own (SERIAL2), is the mission's; then that ground
+/// station, a rogue, arms a, takes off and streams it away at 2 m/s east for
+/// 25 s. ArduCopter's own fence holds it: its avoidance stops a velocity-steered
+/// vehicle `FENCE_MARGIN` inside the circle (and refuses position targets
+/// beyond it), so by the simulator's truth it never gets farther from its pad
+/// than the fence's radius.
+async fn rogue_is_held_by_the_fence_the_dry_run_set(mission: &Mission, fleet: &Fleet) {
+    use mavlink::dialects::common::MavCmd;
+    let (_, a) = mission.drones().next().expect("drone a");
+    let pad_m = mission.pad_ground_m(a);
+    let fence = swarmctl::fly::FencePlan::of(mission)
+        .expect("fence on by default")
+        .for_pad(pad_m);
+    let rogue = crate::rogue::Rogue::connect(&format!("tcpout:127.0.0.1:{SERIAL2_BASE}"), 1).await;
+    let expected = [
+        ("FENCE_ENABLE", 1.0),
+        ("FENCE_TYPE", 3.0),
+        ("FENCE_ACTION", 2.0),
+        ("FENCE_ALT_MAX", fence.max_altitude_m as f32),
+        ("FENCE_RADIUS", fence.radius_m as f32),
+        ("FENCE_MARGIN", fence.margin_m as f32),
+    ];
+    for (name, value) in expected {
+        let read = rogue.read_param(name).await;
+        println!("a: {name} reads back {read} (mission: {value})");
+        assert!(
+            (read - value).abs() <= 1e-3 * value.abs().max(1.0),
+            "{name}: {read} ≠ {value}"
+        );
+    }
+    // GUIDED, arm, take off to 2 m (under the 4.25 m ceiling), then away east.
+    assert_eq!(
+        rogue
+            .command(
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                [1.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+            )
+            .await,
+        Some(mavlink::dialects::common::MavResult::MAV_RESULT_ACCEPTED)
+    );
+    let armed = rogue
+        .command(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await;
+    assert_eq!(
+        armed,
+        Some(mavlink::dialects::common::MavResult::MAV_RESULT_ACCEPTED)
+    );
+    rogue
+        .command(
+            MavCmd::MAV_CMD_NAV_TAKEOFF,
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0],
+        )
+        .await;
+    tokio::time::sleep(Duration::from_secs(8)).await;
+    let from = Instant::now();
+    rogue
+        .stream_velocity([0.0, 2.0, 0.0], Duration::from_secs(25))
+        .await;
+    rogue
+        .command(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            [1.0, 9.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await;
+    let origin = mission.geo_origin.expect("geo origin");
+    let farthest_m = fleet.tracks[0]
+        .lock()
+        .unwrap()
+        .iter()
+        .filter(|s| s.at >= from)
+        .map(|s| {
+            let p = crate::truth::enu_m(&origin, s);
+            (p[0] - pad_m[0]).hypot(p[1] - pad_m[1])
+        })
+        .fold(0.0, f64::max);
+    println!(
+        "a: the rogue got it {farthest_m:.2} m from its pad by truth (fence radius {:.2} m, margin {:.2} m)",
+        fence.radius_m, fence.margin_m
+    );
+    assert!(farthest_m > 1.0, "the rogue did fly it: {farthest_m:.2} m");
+    assert!(
+        farthest_m <= fence.radius_m,
+        "held within its fence: {farthest_m:.2} m > {:.2} m",
+        fence.radius_m
+    );
 }

@@ -16,4 +16,5 @@ mod support;
 mod arducopter;
 mod fleet;
 mod px4;
+mod rogue;
 mod truth;

@@ -170,3 +170,118 @@ async fn formation_change_on_real_px4() {
     let arrival_m = mission.limits.tracking_error_m;
     fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth, arrival_m, 1.3);
 }
+
+/// `fly --dry-run` on two real PX4 (SIH) vehicles sets each one's fence and reads
+/// it back; read again apart from swarmctl (`GF_ACTION` an `INT32`, bit for bit),
+/// it is the mission's. Then a rogue ground station on a's offboard port arms it,
+/// takes off and streams it away at 2 m/s east: PX4's own geofence takes it out of
+/// OFFBOARD, holds and lands it, and by SIH's truth it stops within the fence's
+/// margin past the circle.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn fence_on_real_px4_is_read_back_and_lands_a_rogue() {
+    use mavlink::dialects::common::{MavCmd, MavResult};
+    let _one = fleet::ONE_AT_A_TIME.lock().await;
+    let started = Instant::now();
+    let links = tempfile::tempdir().expect("bin directory");
+    let bin = lay_out_bin(&px4_dir(), links.path());
+    let (mission, plan) = mission("missions/swap-corridor.yaml");
+    let fleet = boot_fleet(&mission, &bin, started + TEST_LIMIT);
+    let mut options = swarmctl::fly::FlyOptions::new(fleet.links.clone());
+    options.ready_timeout = Duration::from_secs(60);
+    let checked = swarmctl::compiled::compile_plan(&mission, &plan, 0).expect("checked");
+    let dry = tokio::time::timeout(
+        TEST_LIMIT,
+        swarmctl::fly::dry_run(&mission, &checked, &options),
+    )
+    .await
+    .expect("dry run within the test's time limit")
+    .expect("dry run runs");
+    for d in &dry.drones {
+        let ready = d.readiness.as_ref().expect("every vehicle ready");
+        println!("{}: fence {:?}", d.id, ready.fence);
+    }
+    assert!(dry.ready());
+    drop(dry);
+    // swarmctl's sessions are gone: a's offboard port is the rogue's now.
+    let (_, a) = mission.drones().next().expect("drone a");
+    let pad_m = mission.pad_ground_m(a);
+    let fence = swarmctl::fly::FencePlan::of(&mission)
+        .expect("fence on by default")
+        .for_pad(pad_m);
+    let rogue = crate::rogue::Rogue::connect(&format!("udpin:127.0.0.1:{OFFBOARD_BASE}"), 1).await;
+    for (name, value) in [
+        ("GF_MAX_HOR_DIST", fence.radius_m as f32),
+        ("GF_MAX_VER_DIST", fence.max_altitude_m as f32),
+    ] {
+        let read = rogue.read_param(name).await;
+        println!("a: {name} reads back {read} (mission: {value})");
+        assert!(
+            (read - value).abs() <= 1e-3 * value.max(1.0),
+            "{name}: {read} ≠ {value}"
+        );
+    }
+    let action = rogue.read_param("GF_ACTION").await.to_bits() as i32;
+    println!("a: GF_ACTION reads back {action} (mission: 5, land)");
+    assert_eq!(action, 5);
+
+    // OFFBOARD needs a stream first; then arm, climb to 2 m, and away east.
+    rogue
+        .stream_position([0.0, 0.0, -2.0], Duration::from_secs(1))
+        .await;
+    assert_eq!(
+        rogue
+            .command(
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                [1.0, 6.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+            )
+            .await,
+        Some(MavResult::MAV_RESULT_ACCEPTED)
+    );
+    assert_eq!(
+        rogue
+            .command(
+                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+            )
+            .await,
+        Some(MavResult::MAV_RESULT_ACCEPTED)
+    );
+    rogue
+        .stream_position([0.0, 0.0, -2.0], Duration::from_secs(8))
+        .await;
+    let from = Instant::now();
+    rogue
+        .stream_velocity([0.0, 2.0, 0.0], Duration::from_secs(30))
+        .await;
+    let origin = mission.geo_origin.expect("geo origin");
+    let (farthest_m, last_height_m) = {
+        let track = fleet.tracks[0].lock().unwrap();
+        let after: Vec<[f64; 3]> = track
+            .iter()
+            .filter(|s| s.at >= from)
+            .map(|s| crate::truth::enu_m(&origin, s))
+            .collect();
+        let farthest = after
+            .iter()
+            .map(|p| (p[0] - pad_m[0]).hypot(p[1] - pad_m[1]))
+            .fold(0.0, f64::max);
+        (farthest, after.last().map_or(f64::NAN, |p| p[2]))
+    };
+    println!(
+        "a: the rogue got it {farthest_m:.2} m from its pad by truth (fence radius {:.2} m, margin {:.2} m); last height {last_height_m:.2} m",
+        fence.radius_m, fence.margin_m
+    );
+    drop(fleet);
+    assert!(
+        farthest_m > fence.radius_m - 0.5,
+        "the rogue flew it to its fence: {farthest_m:.2} m"
+    );
+    assert!(
+        farthest_m <= fence.radius_m + fence.margin_m,
+        "stopped within the margin past its fence: {farthest_m:.2} m"
+    );
+    assert!(
+        last_height_m < 0.3,
+        "its fence landed it: {last_height_m:.2} m up"
+    );
+}

@@ -92,8 +92,45 @@ fn print_summary(path: &std::path::Path, m: &mission::Mission, budget: &Budget) 
     }
     println!("  separation {}", separation_text(m));
     print_budget(budget);
+    print_fence(m);
     println!("  formation  ≥ {lower_bound} from the starts (lower bound, collisions ignored)");
     super::pads::print_pads_and_legs(m);
+}
+
+/// The geofence each autopilot will be given at pre-flight: the circle around
+/// each pad and the ceiling above it, over the whole swarm.
+fn print_fence(m: &mission::Mission) {
+    let Some(plan) = swarmctl::fly::FencePlan::of(m) else {
+        println!("  fence      off (fence.enabled: false): each autopilot keeps its own");
+        return;
+    };
+    let fences: Vec<_> = m
+        .groups
+        .iter()
+        .flat_map(|g| &g.drones)
+        .map(|d| {
+            let pad = m
+                .world
+                .center_m(swarmctl::world::Voxel::new(d.pad[0], d.pad[1], 0));
+            plan.for_pad([pad.x, pad.y, 0.0])
+        })
+        .collect();
+    let span = |f: fn(&swarmctl::fly::VehicleFence) -> f64| {
+        let lo = fences.iter().map(f).fold(f64::INFINITY, f64::min);
+        let hi = fences.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+        if (hi - lo).abs() < 0.05 {
+            format!("{lo:.1}")
+        } else {
+            format!("{lo:.1}–{hi:.1}")
+        }
+    };
+    println!(
+        "  fence      airspace + {:.1} m: {} m around each pad, {} m above it; on a breach the autopilot does: {}",
+        plan.margin_m,
+        span(|f| f.radius_m),
+        span(|f| f.max_altitude_m),
+        plan.action
+    );
 }
 
 /// The link budget: each drone's steady traffic each way, message by message,

@@ -4,8 +4,8 @@ use crate::HarnessError;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use swarmctl::mission::MissionFile;
 use swarmctl::mission::schema::{LimitsSpec, LinkSpec, SeparationSpec, WorldSpec};
+use swarmctl::mission::{FenceSpec, MissionFile};
 
 /// Drones per group (within a group any drone may take any goal).
 const DRONES_PER_GROUP: usize = 20;
@@ -81,6 +81,7 @@ pub fn load_mission(
         groups: group_specs,
         stages: Vec::new(),
         landing: None,
+        fence: FenceSpec::default(),
     })
 }
 

@@ -26,7 +26,10 @@ use std::time::Duration;
 /// Every fault kind with its form, as a command's `--fault` help gives it (the
 /// drone is the mission's drone id there), so a new kind is documented where it
 /// is parsed.
-pub const FAULT_HELP: &str = "Bundled SITL fault, repeatable: link-wide loss=10%, latency=50ms, dup=5%, reorder=10% (loss=DRONE_ID:10% for one drone); per drone slow=DRONE_ID:0.5, drop=DRONE_ID@5s+3s (link cut 5 s after takeoff for 3 s; +inf: for good), lose=DRONE_ID@5s (cut for good), crash=DRONE_ID@5s (motors stop, it falls, silent), refuse-arm=DRONE_ID, low-battery=DRONE_ID@10s (critical 45 s later; @10s+inf: a warning only), critical-battery=DRONE_ID@10s (after arming).";
+pub const FAULT_HELP: &str = "Bundled SITL fault, repeatable: link-wide loss=10%, latency=50ms, dup=5%, reorder=10% (loss=DRONE_ID:10% for one drone); per drone slow=DRONE_ID:0.5, drop=DRONE_ID@5s+3s (link cut 5 s after takeoff for 3 s; +inf: for good), lose=DRONE_ID@5s (cut for good), crash=DRONE_ID@5s (motors stop, it falls, silent), rogue=DRONE_ID@5s (a rogue ground station streams it a target 100 m west: its own geofence must stop it), refuse-arm=DRONE_ID, low-battery=DRONE_ID@10s (critical 45 s later; @10s+inf: a warning only), critical-battery=DRONE_ID@10s (after arming).";
+
+/// How far west of its home a rogue ground station sends a drone, metres.
+pub const ROGUE_TARGET_WEST_M: f32 = 100.0;
 
 /// One parsed fault flag.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +100,16 @@ pub enum FaultSpec {
         /// Time after takeoff when it crashes.
         after: Duration,
     },
+    /// From `after` takeoff a rogue ground station streams this drone a target
+    /// [`ROGUE_TARGET_WEST_M`] west of its home at its height, faster than the
+    /// controller streams its own: in GUIDED or OFFBOARD it flies there, until
+    /// its own geofence takes it out of that mode.
+    Rogue {
+        /// The drone's name.
+        drone: String,
+        /// Time after takeoff when the rogue stream starts.
+        after: Duration,
+    },
     /// This drone flies at `factor` times the speed it is commanded.
     Slow {
         /// The drone's name.
@@ -130,6 +143,7 @@ impl FaultSpec {
             | FaultSpec::Drop { drone, .. }
             | FaultSpec::Lose { drone, .. }
             | FaultSpec::Crash { drone, .. }
+            | FaultSpec::Rogue { drone, .. }
             | FaultSpec::LowBattery { drone, .. }
             | FaultSpec::CriticalBattery { drone, .. }
             | FaultSpec::RefuseArm { drone } => Some(drone),

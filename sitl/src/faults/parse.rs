@@ -16,7 +16,7 @@ pub struct FaultError {
 }
 
 /// Every kind with its form, for the error that meets an unknown or shapeless flag.
-const KINDS: &str = "loss=10%, latency=50ms, dup=5%, reorder=10%, slow=ID:0.5, drop=ID@5s+3s, lose=ID@5s, crash=ID@5s, refuse-arm=ID, low-battery=ID@10s, critical-battery=ID@10s";
+const KINDS: &str = "loss=10%, latency=50ms, dup=5%, reorder=10%, slow=ID:0.5, drop=ID@5s+3s, lose=ID@5s, crash=ID@5s, rogue=ID@5s, refuse-arm=ID, low-battery=ID@10s, critical-battery=ID@10s";
 
 /// Parses one fault flag, `KIND=VALUE`. The link-wide kinds (`loss`, `latency`,
 /// `dup`, `reorder`) apply to every vehicle, or to one when written
@@ -72,6 +72,10 @@ impl Value<'_> {
                 let (drone, after) = self.drone_at("crash=b1@5s")?;
                 Ok(FaultSpec::Crash { drone, after })
             }
+            "rogue" => {
+                let (drone, after) = self.drone_at("rogue=b1@5s")?;
+                Ok(FaultSpec::Rogue { drone, after })
+            }
             "low-battery" => self.low_battery(),
             "critical-battery" => {
                 let (drone, after) = self.drone_at("critical-battery=b1@10s")?;
@@ -85,7 +89,7 @@ impl Value<'_> {
                     .to_string(),
             }),
             _ => Err(String::from(
-                "unknown fault kind (loss, latency, dup, reorder, slow, drop, lose, crash, refuse-arm, low-battery, critical-battery)",
+                "unknown fault kind (loss, latency, dup, reorder, slow, drop, lose, crash, rogue, refuse-arm, low-battery, critical-battery)",
             )),
         }
     }

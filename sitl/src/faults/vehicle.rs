@@ -35,6 +35,7 @@ pub fn faults_for(drone: &str, faults: &[FaultSpec]) -> Faults {
             FaultSpec::Lose { after, .. } => out.link_drop = Some(LinkDrop::permanent(*after)),
             FaultSpec::RefuseArm { .. } => out.refuse_arm = true,
             FaultSpec::Crash { after, .. } => out.crash_after_takeoff = Some(*after),
+            FaultSpec::Rogue { after, .. } => out.rogue_after_takeoff = Some(*after),
             FaultSpec::LowBattery {
                 after,
                 critical_after,

@@ -15,6 +15,9 @@ impl Vehicle {
             sp.position_ned_m[2] = Some(self.body.ground_down_m - height_m);
             return sp;
         }
+        if self.rogue_active() && matches!(self.mode, FlightMode::Offboard | FlightMode::Guided) {
+            return self.rogue_target();
+        }
         match self.mode {
             FlightMode::Offboard => self.external.map_or(self.hold, |e| e.setpoint),
             FlightMode::Guided => match self.external {
@@ -36,6 +39,21 @@ impl Vehicle {
                 }
             }
             FlightMode::Manual | FlightMode::Hold | FlightMode::Takeoff => self.hold,
+        }
+    }
+
+    /// The rogue ground station's target: far west of home, at the current height.
+    fn rogue_target(&self) -> Setpoint {
+        let home = self.home_ned_m;
+        Setpoint {
+            position_ned_m: [
+                Some(home[0]),
+                Some(home[1] - crate::faults::ROGUE_TARGET_WEST_M),
+                Some(self.body.position_ned_m[2]),
+            ],
+            velocity_ned_mps: [None; 3],
+            yaw_rad: None,
+            accel_ned_mps2: [None; 3],
         }
     }
 

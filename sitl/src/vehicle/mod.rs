@@ -23,6 +23,7 @@ use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
 use std::time::Duration;
 
+mod fence;
 mod guidance;
 mod transitions;
 
@@ -116,6 +117,10 @@ pub struct Vehicle {
     pub(crate) battery_critical: bool,
     /// Parameter table.
     pub(crate) params: Params,
+    /// Where it armed: home, from which its fence is measured (shared NED, m).
+    pub(crate) home_ned_m: [f32; 3],
+    /// Its fence was breached in this flight (acted on once).
+    pub(crate) fence_breached: bool,
     /// Telemetry stream schedule.
     pub(crate) streams: Streams,
     /// Messages waiting to be sent.
@@ -158,6 +163,8 @@ impl Vehicle {
             battery_low: false,
             battery_critical: false,
             params: Params::for_vehicle(&config),
+            home_ned_m: config.initial_position_ned_m,
+            fence_breached: false,
             streams: Streams::new(config.seed, telemetry_rate_hz),
             outbox: Vec::new(),
             noise: ChaCha8Rng::seed_from_u64(config.seed),
@@ -239,6 +246,17 @@ impl Vehicle {
         }
     }
 
+    /// Whether an injected rogue ground station is streaming the vehicle away.
+    pub fn rogue_active(&self) -> bool {
+        match (
+            self.config.faults.rogue_after_takeoff,
+            self.first_airborne_s,
+        ) {
+            (Some(after), Some(airborne_s)) => self.time_s >= airborne_s + seconds_or_never(after),
+            _ => false,
+        }
+    }
+
     /// Whether an injected link drop (or a crash) is cutting the link right now.
     pub fn link_down(&self) -> bool {
         if self.crashed() {
@@ -268,6 +286,7 @@ impl Vehicle {
         }
         self.check_battery();
         self.update_mode();
+        self.check_fence();
         let setpoint = self.current_setpoint();
         let limits = self.mode_limits();
         let thrust = self.armed && !self.crashed();
@@ -311,6 +330,10 @@ impl Vehicle {
 
     /// Arms or disarms, resetting per-flight state.
     pub(crate) fn set_armed(&mut self, armed: bool) {
+        if armed && !self.armed {
+            self.home_ned_m = self.hold_position();
+            self.fence_breached = false;
+        }
         self.armed = armed;
         self.resting_since_s = None;
         self.hold = Setpoint::hold(self.hold_position());

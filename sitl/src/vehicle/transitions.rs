@@ -81,9 +81,11 @@ impl Vehicle {
                 }
             }
             FlightMode::Offboard => {
-                let lost = self
-                    .external
-                    .is_none_or(|e| self.time_s - e.received_s > OFFBOARD_LOSS_TIMEOUT_S);
+                // A rogue ground station's stream keeps OFFBOARD alive too.
+                let lost = !self.rogue_active()
+                    && self
+                        .external
+                        .is_none_or(|e| self.time_s - e.received_s > OFFBOARD_LOSS_TIMEOUT_S);
                 if lost && self.armed {
                     self.status_text(
                         MavSeverity::MAV_SEVERITY_WARNING,

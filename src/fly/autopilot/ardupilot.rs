@@ -6,9 +6,10 @@
 use super::flavour::{Flavour, OwnLimits, Setting};
 use super::takeoff::{Takeoff, TakeoffStep, TakeoffTick};
 use crate::fly::command::{Command, Request};
+use crate::fly::fence::VehicleFence;
 use crate::fly::follower::Setpoint;
-use crate::link::ModeRequest;
-use crate::mission::Autopilot;
+use crate::link::{ModeRequest, ParamValue};
+use crate::mission::{Autopilot, FenceAction};
 use mavlink::dialects::common::{MavAutopilot, MavLandedState};
 
 /// Copter reports takeoff done within some 0.1–0.2 m of the target height and then
@@ -91,6 +92,29 @@ impl Flavour for ArduCopter {
             ("PSC_JERK_XY", Setting::To(l.max_jerk_mps3)),
             ("PSC_JERK_Z", Setting::To(l.max_jerk_mps3)),
             ("LAND_SPEED", Setting::AtMost(100.0 * l.commanded_speed_mps)),
+        ]
+    }
+
+    /// `FENCE_TYPE` 3: the maximum altitude and the circle around home.
+    /// `FENCE_ACTION` 2 always lands (1 would try RTL first, flying back across
+    /// the swarm); 0 only reports. `FENCE_MARGIN` is the room its own avoidance
+    /// keeps from the fence in pilot-flown modes: the mission's margin, so that a
+    /// pilot who takes over is held at the airspace's edge. `FENCE_ENABLE` last.
+    fn fence_parameters(&self, fence: &VehicleFence) -> Vec<(&'static str, ParamValue)> {
+        let action = match fence.action {
+            FenceAction::Land => 2.0,
+            FenceAction::Report => 0.0,
+        };
+        vec![
+            ("FENCE_TYPE", ParamValue::Real(3.0)),
+            ("FENCE_ACTION", ParamValue::Real(action)),
+            (
+                "FENCE_ALT_MAX",
+                ParamValue::Real(fence.max_altitude_m as f32),
+            ),
+            ("FENCE_RADIUS", ParamValue::Real(fence.radius_m as f32)),
+            ("FENCE_MARGIN", ParamValue::Real(fence.margin_m as f32)),
+            ("FENCE_ENABLE", ParamValue::Real(1.0)),
         ]
     }
 

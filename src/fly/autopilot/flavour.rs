@@ -2,7 +2,8 @@
 
 use super::takeoff::Takeoff;
 use crate::fly::command::Modes;
-use crate::link::ModeRequest;
+use crate::fly::fence::VehicleFence;
+use crate::link::{ModeRequest, ParamValue};
 use crate::mission::Autopilot;
 use mavlink::dialects::common::MavAutopilot;
 
@@ -48,6 +49,10 @@ pub trait Flavour: Sync {
 
     /// The parameters that carry the mission's limits, in the order they are set.
     fn limit_parameters(&self, limits: OwnLimits) -> Vec<(&'static str, Setting)>;
+
+    /// The parameters that carry a vehicle's fence, in the order they are set:
+    /// the switch that turns it on last (see [`crate::fly::fence`]).
+    fn fence_parameters(&self, fence: &VehicleFence) -> Vec<(&'static str, ParamValue)>;
 
     /// The parameter holding the vehicle's attitude time constant, seconds, when
     /// the acceleration feed-forward must lead by it (see

@@ -7,9 +7,10 @@
 use super::flavour::{Flavour, OwnLimits, Setting};
 use super::takeoff::{Takeoff, TakeoffStep, TakeoffTick};
 use crate::fly::command::{Command, Request};
+use crate::fly::fence::VehicleFence;
 use crate::fly::follower::Setpoint;
-use crate::link::ModeRequest;
-use crate::mission::Autopilot;
+use crate::link::{ModeRequest, ParamValue};
+use crate::mission::{Autopilot, FenceAction};
 use crate::trajectory::Profile;
 use mavlink::dialects::common::MavAutopilot;
 use std::time::{Duration, Instant};
@@ -101,6 +102,24 @@ impl Flavour for Px4 {
             ("MPC_Z_VEL_MAX_UP", Setting::To(l.max_speed_mps)),
             ("MPC_Z_VEL_MAX_DN", Setting::To(l.max_speed_mps)),
             ("MPC_ACC_HOR_MAX", Setting::To(l.max_accel_mps2)),
+        ]
+    }
+
+    /// `GF_MAX_HOR_DIST` and `GF_MAX_VER_DIST` (from home, 0: off) are the
+    /// circle and the ceiling; `GF_ACTION` (an `INT32`) 5 lands, 1 only warns. It
+    /// is set last: a breach action with the old distances could fire at once.
+    fn fence_parameters(&self, fence: &VehicleFence) -> Vec<(&'static str, ParamValue)> {
+        let action = match fence.action {
+            FenceAction::Land => 5,
+            FenceAction::Report => 1,
+        };
+        vec![
+            ("GF_MAX_HOR_DIST", ParamValue::Real(fence.radius_m as f32)),
+            (
+                "GF_MAX_VER_DIST",
+                ParamValue::Real(fence.max_altitude_m as f32),
+            ),
+            ("GF_ACTION", ParamValue::Int32(action)),
         ]
     }
 

@@ -14,8 +14,10 @@
 //! - link health and what the vehicle last said: `Telemetry` (`telemetry`);
 //! - in or out of the plan: `Membership` (`membership`), changed as contingencies
 //!   and replans ask (`replanned`);
-//! - landing and hand-over: `landing`; what goes out to the vehicle: `vehicle_io`.
+//! - landing and hand-over: `landing`; what goes out to the vehicle: `vehicle_io`;
+//! - still inside the mission's airspace, or gone from the plan: `airspace`.
 
+mod airspace;
 mod gating;
 mod landing;
 mod membership;

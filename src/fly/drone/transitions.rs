@@ -22,6 +22,9 @@ impl DroneRun {
         match &self.phase {
             Phase::TakingOff(_) => self.take_off(settings, now, since_arm_s, events),
             Phase::AtStart => self.last_setpoint = Some(self.hold_start()),
+            // Out of the airspace, out of external control is its own fence's
+            // doing (PX4 holds, then lands): never taken back (`contingency`).
+            Phase::Flying | Phase::AtGoal if self.outside_airspace_m(settings).is_some() => {}
             Phase::Flying | Phase::AtGoal => self.resume_external_control(since_arm_s, events),
             phase if phase.retiring_on_our_setpoints() => {
                 self.resume_external_control(since_arm_s, events);

@@ -28,6 +28,7 @@ pub(super) fn why_out(d: &DroneRun) -> String {
         Some(Retirement::AutopilotFailsafe) => {
             format!("{} (retired, autopilot failsafe)", d.id())
         }
+        Some(Retirement::LeftAirspace) => format!("{} (retired, left the airspace)", d.id()),
         None => format!("{} (lost)", d.id()),
     }
 }

@@ -22,6 +22,7 @@ mod reader;
 mod streams;
 
 pub use command::CommandPolicy;
+pub use parameters::ParamValue;
 pub use streams::Quieted;
 
 use super::error::LinkError;

@@ -10,6 +10,7 @@
 
 mod bounds;
 mod contests;
+mod fence;
 mod fields;
 mod groups;
 mod pads;
@@ -42,6 +43,7 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
     let signing = settings::check_link(&file.link, &mut report);
     let relay_of = relays::check_relays(&file.link, &file.groups, &mut report);
     radios::check_radios(&file.link, &file.groups, &mut report);
+    fence::check_fence(&file.fence, &mut report);
     if file.groups.is_empty() {
         report.add("groups", "a mission needs at least one group of drones");
     }
@@ -113,26 +115,36 @@ pub fn validate(file: &MissionFile) -> Result<Mission, Vec<Problem>> {
         formations_use_pad_layer,
         limits,
         geo_origin: file.world.geo_origin,
-        link: LinkSettings {
-            autopilot: link.autopilot,
-            setpoint_rate_hz: link.setpoint_rate_hz,
-            link_timeout_s: link.link_timeout_s,
-            lost_after_s: link.lost_after_s,
-            speed_headroom: link
-                .speed_headroom
-                .unwrap_or_else(|| link.autopilot.speed_overshoot()),
-            signing,
-            relays: link.relays.clone(),
-            zenoh: link.zenoh.clone(),
-            radios: link.radios.clone(),
-        },
+        link: link_settings(link, signing),
         groups,
         stages,
         landing,
+        fence: file.fence,
     };
     contests::check_leg_targets(&mission, &mut report);
     if !report.is_empty() {
         return Err(report.into_problems());
     }
     Ok(mission)
+}
+
+/// The validated link section: the file's, with the defaults that depend on the
+/// autopilot filled in.
+fn link_settings(
+    link: &super::schema::LinkSpec,
+    signing: Option<super::types::KeySource>,
+) -> LinkSettings {
+    LinkSettings {
+        autopilot: link.autopilot,
+        setpoint_rate_hz: link.setpoint_rate_hz,
+        link_timeout_s: link.link_timeout_s,
+        lost_after_s: link.lost_after_s,
+        speed_headroom: link
+            .speed_headroom
+            .unwrap_or_else(|| link.autopilot.speed_overshoot()),
+        signing,
+        relays: link.relays.clone(),
+        zenoh: link.zenoh.clone(),
+        radios: link.radios.clone(),
+    }
 }

@@ -46,8 +46,12 @@ fn print_dry_run(mission: &str, dry: &DryRun) {
                         v.streams_still_on
                     )
                 };
+                let fence = match &v.fence {
+                    Some(fence) => format!("fence {fence} (set, read back, left set)"),
+                    None => "fence left as it was (fence.enabled: false)".to_string(),
+                };
                 println!(
-                    "  {:<8} ready      {}, frame {}, local origin E {e} N {n} U {u} m, {} default streams turned off{kept}",
+                    "  {:<8} ready      {}, frame {}, local origin E {e} N {n} U {u} m, {} default streams turned off{kept}; {fence}",
                     d.id,
                     v.autopilot,
                     frame_text(v.frame),
