@@ -1,6 +1,6 @@
 //! The autopilots' own geofence, as each firmware keeps it in its parameters:
 //! a maximum altitude and a circle around home, and what to do on a breach.
-//! Each imitation reads its own parameters ([`crate::imitation::Imitation::fence`]);
+//! Each imitation reads its own parameters (`Imitation::fence`);
 //! the vehicle checks its position against the result every step
 //! (`vehicle::fence`).
 

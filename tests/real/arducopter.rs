@@ -303,7 +303,7 @@ async fn dry_run_on_real_arducopter_arms_nobody_sets_the_fence_and_names_a_vehic
             "{ id: b, start: [6, 1, 1], pad: [7, 1] }",
         )
     });
-    let dry = dry_run(moved, moved_plan).await;
+    let dry = dry_run(moved.clone(), moved_plan).await;
     assert!(!dry.ready(), "b stands off its pad");
     assert!(dry.drones[0].readiness.is_ok(), "a is on its pad");
     let why = dry.drones[1].readiness.as_ref().expect_err("b refused");
@@ -330,7 +330,9 @@ async fn dry_run_on_real_arducopter_arms_nobody_sets_the_fence_and_names_a_vehic
             - heights.iter().fold(f64::INFINITY, |m, h| m.min(*h));
         assert!(rise_m < 0.1, "vehicle {n} moved {rise_m:.2} m up or down");
     }
-    rogue_is_held_by_the_fence_the_dry_run_set(&mission, &fleet).await;
+    // The last dry run set a's fence for the moved mission, whose launch area
+    // (b's pad beside the world) is wider.
+    rogue_is_held_by_the_fence_the_dry_run_set(&moved, &fleet).await;
 }
 
 /// After a dry run, the fence it set on vehicle a, read back on a ground
