@@ -3,6 +3,7 @@
 mod autopilot;
 mod contest;
 mod error;
+mod fence;
 mod legs;
 mod load;
 pub mod schema;

@@ -23,14 +23,17 @@
 //! footprint by up to its corners: it keeps a runaway vehicle near the field,
 //! not out of every corner of the neighbouring airspace.
 //!
-//! The fence is set last, after the limits: a vehicle refused on a limit keeps
+//! Setting it on a vehicle and reading it back is `parameters`. The fence is set
+//! last, after the limits: a vehicle refused on a limit keeps
 //! its old fence. After the flight it stays as set: every vehicle flies the next
 //! flight (or a manual one) with the same airspace in it, and `fly` says so.
 
-use super::autopilot::Flavour;
-use crate::link::Session;
 use crate::mission::{FenceAction, Mission};
 use serde::{Deserialize, Serialize};
+
+mod parameters;
+
+pub use parameters::apply;
 
 /// The box that holds the mission's airspace (the world and the launch area),
 /// mission ENU metres, out to its voxels' faces.
@@ -144,37 +147,6 @@ impl std::fmt::Display for VehicleFence {
     }
 }
 
-/// Sets the vehicle's fence parameters ([`Flavour::fence_parameters`], the switch
-/// that turns the fence on last), then reads every one back; `Err` names the drone
-/// and the parameter that would not take or reads back otherwise.
-pub async fn apply(
-    id: &str,
-    session: &Session,
-    flavour: &dyn Flavour,
-    fence: &VehicleFence,
-) -> Result<(), String> {
-    let parameters = flavour.fence_parameters(fence);
-    for &(name, value) in &parameters {
-        session
-            .set_param_value(name, value)
-            .await
-            .map_err(|e| format!("{id}: cannot set its fence: {e}"))?;
-    }
-    for &(name, value) in &parameters {
-        let read = session
-            .read_param(name)
-            .await
-            .map_err(|e| format!("{id}: cannot read its fence back: {e}"))?;
-        if !value.matches(read) {
-            return Err(format!(
-                "{id}: its fence differs from the mission's: {name} reads back {}, set {value} (another ground station, or the autopilot refused it)",
-                value.decode_like(read)
-            ));
-        }
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,7 +183,7 @@ mod tests {
     /// bundled formation change's world is 10 × 6 × 4 voxels of 1 m.
     #[test]
     fn the_plan_is_the_airspace_box_of_the_mission() {
-        let yaml = include_str!("../../missions/formation-change.yaml");
+        let yaml = include_str!("../../../missions/formation-change.yaml");
         let mission =
             crate::mission::from_yaml(yaml, std::path::Path::new("formation-change.yaml"))
                 .expect("valid mission");
