@@ -176,6 +176,9 @@ pub struct Budget {
     pub per_drone: DroneTraffic,
     /// The mission's setpoint rate, Hz (telemetry comes at the same rate).
     pub setpoint_rate_hz: f64,
+    /// The lowest setpoint rate its autopilot may be flown at, Hz
+    /// ([`crate::mission::Autopilot::min_setpoint_rate_hz`]): no fix goes below it.
+    pub min_setpoint_rate_hz: f64,
     /// Each radio of `link.radios`, in order.
     pub radios: Vec<RadioLoad>,
     /// Drones on no radio: each has a link of its own (Wi-Fi, loopback).
@@ -198,6 +201,10 @@ impl Budget {
         Budget {
             per_drone,
             setpoint_rate_hz: rate_hz,
+            min_setpoint_rate_hz: link
+                .autopilot
+                .min_setpoint_rate_hz()
+                .max(*SETPOINT_RATES_HZ.start()),
             radios,
             own_links: mission.drone_count().saturating_sub(on_radios),
         }
@@ -245,8 +252,8 @@ impl Budget {
         )
     }
 
-    /// The highest whole (or, below 5, half) setpoint rate the mission accepts
-    /// at which `radio` carries its drones, if there is one.
+    /// The highest whole (or, below 5, half) setpoint rate the mission's
+    /// autopilot accepts at which `radio` carries its drones, if there is one.
     fn fitting_rate_hz(&self, radio: &RadioLoad) -> Option<f64> {
         let signed = self.per_drone.up.first().is_some_and(|f| {
             f.frame_bytes > frame_bytes(SET_POSITION_TARGET_LOCAL_NED_DATA::ENCODED_LEN, false)
@@ -256,7 +263,7 @@ impl Budget {
                 <= radio.usable_kbps
         };
         let mut hz = self.setpoint_rate_hz.floor();
-        while hz >= *SETPOINT_RATES_HZ.start() {
+        while hz >= self.min_setpoint_rate_hz {
             if fits(hz) {
                 return Some(hz);
             }

@@ -315,8 +315,9 @@ pub struct LinkSpec {
     /// The firmware every vehicle runs; PX4 by default.
     #[serde(default)]
     pub autopilot: Autopilot,
-    /// Setpoints streamed to each vehicle per second, Hz (2.5 to 100; default 20):
-    /// autopilots leave offboard control when setpoints stop coming.
+    /// Setpoints streamed to each vehicle per second, Hz (default 20; at most 100,
+    /// at least the autopilot's [`Autopilot::min_setpoint_rate_hz`]: PX4 5,
+    /// ArduPilot 10): autopilots leave offboard control when setpoints stop coming.
     #[serde(default = "default_setpoint_rate_hz")]
     pub setpoint_rate_hz: f64,
     /// A vehicle silent for this long has lost its link, seconds (default 3): it

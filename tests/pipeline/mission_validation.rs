@@ -195,6 +195,22 @@ const CASES: &[(&str, &str, &str, &str, &str, bool)] = &[
         false,
     ),
     (
+        "setpoint rate below PX4's measured floor",
+        "setpoint_rate_hz: 20",
+        "setpoint_rate_hz: 4",
+        "link.setpoint_rate_hz",
+        "below 5 Hz, the lowest rate px4 kept every guarantee at",
+        false,
+    ),
+    (
+        "setpoint rate below ArduPilot's measured floor",
+        "autopilot: px4, setpoint_rate_hz: 20",
+        "autopilot: ardupilot, setpoint_rate_hz: 5",
+        "link.setpoint_rate_hz",
+        "below 10 Hz, the lowest rate ardupilot kept every guarantee at",
+        false,
+    ),
+    (
         "speed headroom above one",
         "setpoint_rate_hz: 20",
         "setpoint_rate_hz: 20, speed_headroom: 1.5",

@@ -258,6 +258,16 @@ pub(super) fn check_link(link: &LinkSpec, report: &mut Report) -> Option<KeySour
             ),
         );
     }
+    let floor_hz = link.autopilot.min_setpoint_rate_hz();
+    if SETPOINT_RATES_HZ.contains(&link.setpoint_rate_hz) && link.setpoint_rate_hz < floor_hz {
+        report.add(
+            "link.setpoint_rate_hz",
+            format!(
+                "{} Hz is below {floor_hz} Hz, the lowest rate {} kept every guarantee at on its real firmware (README: setpoint rates); raise it to at least {floor_hz} Hz, or give the link more capacity (link.radios)",
+                link.setpoint_rate_hz, link.autopilot
+            ),
+        );
+    }
     check_positive(report, "link.link_timeout_s", link.link_timeout_s, "s");
     check_positive(report, "link.lost_after_s", link.lost_after_s, "s");
     if link.lost_after_s.is_finite() && link.lost_after_s < link.link_timeout_s {
