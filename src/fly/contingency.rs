@@ -21,10 +21,12 @@
 //!   do not fight it. The swarm pauses until it has landed, then resumes as above.
 //! - **Left the airspace** (by telemetry, beyond the tracking bound: its own
 //!   geofence stopped it out there, or a rogue ground station or a flyaway took
-//!   it): it can no longer fly its plan, and below it is nobody's airspace. It is
-//!   put in its autopilot's land mode where it is (unless its fence already
-//!   landed it) and retired like an autopilot failsafe; the swarm pauses while it
-//!   comes down.
+//!   it): it can no longer fly its plan. Beside the airspace, below it is
+//!   nobody's airspace: it is put in its autopilot's land mode where it is
+//!   (unless its fence already landed it) and retired like an autopilot
+//!   failsafe. Above it, its column crosses the swarm's: it comes down like a
+//!   low-battery drone, once the swarm is at rest and its column is clear. The
+//!   swarm pauses while it comes down.
 
 use super::drone::DroneRun;
 use super::follower::Hold;
@@ -208,7 +210,7 @@ pub fn detect_retirement(
             continue;
         }
         if let Some(outside_m) = d.outside_airspace_m(settings) {
-            retire_outside(d, outside_m, since_arm_s, events);
+            retire_outside(d, outside_m, settings, since_arm_s, events);
             continue;
         }
         let (battery, mode, fence_text) = {
@@ -241,10 +243,18 @@ pub fn detect_retirement(
     }
 }
 
-/// Retires a drone `outside_m` outside the airspace: lands it where it is unless
-/// its autopilot is bringing it down already, and says who took it there when
-/// its autopilot told (its geofence).
-fn retire_outside(d: &mut DroneRun, outside_m: f64, since_arm_s: f64, events: &mut Vec<LogEvent>) {
+/// Retires a drone `outside_m` outside the airspace, saying who took it there when
+/// its autopilot told (its geofence). Beside the airspace, below it is nobody's
+/// airspace: it is landed where it is (unless its autopilot is bringing it down
+/// already). Above the airspace, its column crosses the swarm's: it comes down
+/// like a low-battery drone, once the swarm is at rest and its column is clear.
+fn retire_outside(
+    d: &mut DroneRun,
+    outside_m: f64,
+    settings: &LoopSettings,
+    since_arm_s: f64,
+    events: &mut Vec<LogEvent>,
+) {
     let (mode, fence_text) = {
         let s = d.session().state();
         (s.custom_mode, s.fence_text.clone())
@@ -252,11 +262,27 @@ fn retire_outside(d: &mut DroneRun, outside_m: f64, since_arm_s: f64, events: &m
     let fence = fence_text
         .map(|text| format!(" (its geofence: \"{text}\")"))
         .unwrap_or_default();
-    let landing = if d.flavour().is_failsafe_mode(mode) {
-        format!("its autopilot is bringing it down (mode {mode:#x})")
-    } else {
+    let beside = d.position_m().is_some_and(|p| {
+        let a = &settings.airspace;
+        let mid_z = (a.min_enu_m[2] + a.max_enu_m[2]) / 2.0;
+        a.outside_by_m([p[0], p[1], mid_z]) > settings.tracking_error_m
+    });
+    let (landing, stage) = if d.flavour().is_failsafe_mode(mode) {
+        (
+            format!("its autopilot is bringing it down (mode {mode:#x})"),
+            RetireStage::AutopilotLanding,
+        )
+    } else if beside {
         d.land_outside_airspace();
-        "landing it where it is, below it nobody's airspace".to_string()
+        (
+            "landing it where it is, below it nobody's airspace".to_string(),
+            RetireStage::AutopilotLanding,
+        )
+    } else {
+        (
+            "above the airspace: it comes down once its column is clear".to_string(),
+            RetireStage::Halting,
+        )
     };
     events.push(LogEvent::new(
         since_arm_s,
@@ -265,7 +291,7 @@ fn retire_outside(d: &mut DroneRun, outside_m: f64, since_arm_s: f64, events: &m
             "left the airspace: {outside_m:.1} m outside it{fence}; out of the plan, {landing}; the swarm pauses while it comes down"
         ),
     ));
-    d.retire(Retirement::LeftAirspace, RetireStage::AutopilotLanding);
+    d.retire(Retirement::LeftAirspace, stage);
 }
 
 /// Moves retiring drones on: descend once the swarm is at rest and the column is
