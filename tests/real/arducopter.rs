@@ -405,20 +405,10 @@ async fn rogue_is_held_by_the_fence_the_dry_run_set(mission: &Mission, fleet: &F
     }
     // GUIDED, arm, take off to 2 m (under the 4.25 m ceiling), then away east.
     assert_eq!(
-        rogue
-            .command(
-                MavCmd::MAV_CMD_DO_SET_MODE,
-                [1.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.0]
-            )
-            .await,
+        rogue.set_mode(4.0).await,
         Some(mavlink::dialects::common::MavResult::MAV_RESULT_ACCEPTED)
     );
-    let armed = rogue
-        .command(
-            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
+    let armed = rogue.arm().await;
     assert_eq!(
         armed,
         Some(mavlink::dialects::common::MavResult::MAV_RESULT_ACCEPTED)
@@ -434,12 +424,7 @@ async fn rogue_is_held_by_the_fence_the_dry_run_set(mission: &Mission, fleet: &F
     rogue
         .stream_velocity([0.0, 2.0, 0.0], Duration::from_secs(25))
         .await;
-    rogue
-        .command(
-            MavCmd::MAV_CMD_DO_SET_MODE,
-            [1.0, 9.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
+    rogue.set_mode(9.0).await; // LAND
     let origin = mission.geo_origin.expect("geo origin");
     let farthest_m = fleet.tracks[0]
         .lock()

@@ -179,7 +179,7 @@ async fn formation_change_on_real_px4() {
 /// margin past the circle.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn fence_on_real_px4_is_read_back_and_lands_a_rogue() {
-    use mavlink::dialects::common::{MavCmd, MavResult};
+    use mavlink::dialects::common::MavResult;
     let _one = fleet::ONE_AT_A_TIME.lock().await;
     let started = Instant::now();
     let links = tempfile::tempdir().expect("bin directory");
@@ -229,23 +229,10 @@ async fn fence_on_real_px4_is_read_back_and_lands_a_rogue() {
         .stream_position([0.0, 0.0, -2.0], Duration::from_secs(1))
         .await;
     assert_eq!(
-        rogue
-            .command(
-                MavCmd::MAV_CMD_DO_SET_MODE,
-                [1.0, 6.0, 0.0, 0.0, 0.0, 0.0, 0.0]
-            )
-            .await,
+        rogue.set_mode(6.0).await,
         Some(MavResult::MAV_RESULT_ACCEPTED)
     );
-    assert_eq!(
-        rogue
-            .command(
-                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-                [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
-            )
-            .await,
-        Some(MavResult::MAV_RESULT_ACCEPTED)
-    );
+    assert_eq!(rogue.arm().await, Some(MavResult::MAV_RESULT_ACCEPTED));
     rogue
         .stream_position([0.0, 0.0, -2.0], Duration::from_secs(8))
         .await;

@@ -100,6 +100,25 @@ impl Rogue {
         None
     }
 
+    /// Switches to custom main mode `mode` (MAV_CMD_DO_SET_MODE) and returns the
+    /// acknowledgement.
+    pub async fn set_mode(&self, mode: f32) -> Option<MavResult> {
+        self.command(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            [1.0, mode, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+    }
+
+    /// Arms the vehicle and returns the acknowledgement.
+    pub async fn arm(&self) -> Option<MavResult> {
+        self.command(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+    }
+
     /// Streams a velocity target `velocity_ned_mps` (local NED) at 20 Hz for `for_`.
     pub async fn stream_velocity(&self, velocity_ned_mps: [f32; 3], for_: Duration) {
         // Velocity only: position, acceleration and yaw ignored.

@@ -237,10 +237,13 @@ impl Vehicle {
 
     /// Whether an injected crash has happened: motors off, falling or fallen.
     pub fn crashed(&self) -> bool {
-        match (
-            self.config.faults.crash_after_takeoff,
-            self.first_airborne_s,
-        ) {
+        self.fault_started(self.config.faults.crash_after_takeoff)
+    }
+
+    /// Whether a fault set to start `after` takeoff has started (never before
+    /// the vehicle first left the ground).
+    fn fault_started(&self, after: Option<Duration>) -> bool {
+        match (after, self.first_airborne_s) {
             (Some(after), Some(airborne_s)) => self.time_s >= airborne_s + seconds_or_never(after),
             _ => false,
         }
@@ -248,13 +251,7 @@ impl Vehicle {
 
     /// Whether an injected rogue ground station is streaming the vehicle away.
     pub fn rogue_active(&self) -> bool {
-        match (
-            self.config.faults.rogue_after_takeoff,
-            self.first_airborne_s,
-        ) {
-            (Some(after), Some(airborne_s)) => self.time_s >= airborne_s + seconds_or_never(after),
-            _ => false,
-        }
+        self.fault_started(self.config.faults.rogue_after_takeoff)
     }
 
     /// Whether an injected link drop (or a crash) is cutting the link right now.
