@@ -50,7 +50,7 @@ mod vehicle_limits;
 
 pub use dry_run::{DryRun, DryRunDrone, ReadyVehicle, dry_run};
 pub use error::FlyError;
-pub use fence::{FencePlan, VehicleFence};
+pub use fence::{FencePlan, FenceSpan, VehicleFence};
 pub use lateness::{EventLateness, LatenessSummary};
 pub use link_traffic::LinkTraffic;
 pub use log::{

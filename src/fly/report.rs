@@ -101,24 +101,13 @@ pub fn link_traffic(
 pub fn preflight_events(ids: &[String], checked: &[Checked]) -> Vec<LogEvent> {
     let mut events = Vec::new();
     let fences: Vec<_> = checked.iter().filter_map(|c| c.fence).collect();
-    if let Some(first) = fences.first() {
-        let widest = |f: fn(&super::VehicleFence) -> f64| {
-            fences
-                .iter()
-                .map(f)
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                    (lo.min(v), hi.max(v))
-                })
-        };
-        let (r_lo, r_hi) = widest(|f| f.radius_m);
-        let (a_lo, a_hi) = widest(|f| f.max_altitude_m);
+    if let Some(span) = super::FenceSpan::of(&fences) {
         events.push(LogEvent {
             t_s: 0.0,
             drone: None,
             message: format!(
-                "fence set and read back on {} vehicles: {r_lo:.1}–{r_hi:.1} m around each pad, {a_lo:.1}–{a_hi:.1} m above it, action {}; it stays set after the flight",
-                fences.len(),
-                first.action
+                "fence set and read back on {} vehicles: {span}, action {}; it stays set after the flight",
+                span.vehicles, span.action
             ),
         });
     }

@@ -17,7 +17,7 @@ use crate::mission::Limits;
 
 /// How far past its own speed maximum a vehicle goes, as a fraction, by truth:
 /// the room [`parameters`] leaves between that maximum and the mission's limit
-/// (PX4 SIH 0.4, ArduCopter none: see each flavour's
+/// (PX4 SIH 0.6, ArduCopter none: see each flavour's
 /// [`Flavour::own_speed_overshoot`]).
 pub fn own_speed_overshoot(flavour: &dyn Flavour) -> f64 {
     flavour.own_speed_overshoot()
@@ -164,12 +164,12 @@ mod tests {
                 assert!(position("MPC_Z_V_AUTO_DN") < position("MPC_Z_VEL_MAX_DN"));
             }
             // The vehicle's own maxima leave it room to overshoot them within the
-            // limit (PX4: 1 / 1.4 m/s), above the 0.5 m/s commanded.
+            // limit (PX4: 1 / 1.6 m/s), above the 0.5 m/s commanded.
             let maxima: &[(&str, f32)] = match autopilot {
                 Autopilot::Px4 => &[
-                    ("MPC_XY_VEL_MAX", (1.0 / 1.4) as f32),
-                    ("MPC_Z_VEL_MAX_UP", (1.0 / 1.4) as f32),
-                    ("MPC_Z_VEL_MAX_DN", (1.0 / 1.4) as f32),
+                    ("MPC_XY_VEL_MAX", (1.0 / 1.6) as f32),
+                    ("MPC_Z_VEL_MAX_UP", (1.0 / 1.6) as f32),
+                    ("MPC_Z_VEL_MAX_DN", (1.0 / 1.6) as f32),
                 ],
                 Autopilot::Ardupilot => &[
                     ("WPNAV_SPEED", 100.0),

@@ -223,6 +223,47 @@ pub fn report(
     figures
 }
 
+/// How much faster than any vehicle truly flew a telemetry speed must be before
+/// it is the estimate that moved, not the vehicle: the estimate's speed noise in
+/// flight is a few tenths (PX4 SIH: telemetry 0.87–0.99 m/s against truth
+/// 0.92–1.02 m/s on the wide formation change).
+const ESTIMATE_RAN_AWAY_MPS: f64 = 0.5;
+
+/// Why the flight says nothing of swarmctl, when a vehicle's estimator failed:
+/// its telemetry reported a speed more than [`ESTIMATE_RAN_AWAY_MPS`] above the
+/// top speed any vehicle had by truth. `None` when the estimates kept to the truth.
+pub fn estimate_ran_away(log: &FlightLog, truth: &Figures) -> Option<String> {
+    let s = &log.summary;
+    (s.max_speed_mps > truth.top_speed_mps + ESTIMATE_RAN_AWAY_MPS).then(|| {
+        format!(
+            "an estimate ran away from the truth: telemetry {:.2} m/s ({}), truth at most {:.2} m/s",
+            s.max_speed_mps,
+            s.fastest
+                .as_ref()
+                .map_or("?".to_string(), |(id, t_s)| format!("{id} at {t_s:.1} s")),
+            truth.top_speed_mps
+        )
+    })
+}
+
+/// What the truth of any flight must show, whatever its telemetry said:
+/// separation and the speed limit (within its tolerance).
+pub fn assert_truth_kept_separation_and_speed(mission: &Mission, truth: &Figures) {
+    let limits = &mission.limits;
+    assert!(
+        truth.min_separation_m >= limits.safety_distance_m,
+        "true separation {:.3} m < {} m",
+        truth.min_separation_m,
+        limits.safety_distance_m
+    );
+    let top_speed_mps = limits.max_speed_mps * (1.0 + fly::SPEED_TOLERANCE);
+    assert!(
+        truth.top_speed_mps <= top_speed_mps,
+        "true speed {:.3} m/s > {top_speed_mps:.3} m/s",
+        truth.top_speed_mps
+    );
+}
+
 /// The guarantees every completed real-firmware flight must show: frames from GPS,
 /// separation and speed from telemetry and truth, completion, every drone within
 /// `arrival_m` of its goal, and plan execution within `max_stretch` × the planned
@@ -235,7 +276,6 @@ pub fn assert_flight_kept_the_guarantees(
     max_stretch: f64,
 ) {
     let s = &log.summary;
-    let limits = &mission.limits;
     assert!(
         truth.samples > 100 * log.drones.len(),
         "truth was read ({} samples)",
@@ -245,19 +285,8 @@ pub fn assert_flight_kept_the_guarantees(
         assert_eq!(d.frame, fly::FrameFix::GpsOrigin, "{}", d.id);
     }
     assert!(s.safety_held, "telemetry separation {}", s.min_separation_m);
-    assert!(
-        truth.min_separation_m >= limits.safety_distance_m,
-        "true separation {:.3} m < {} m",
-        truth.min_separation_m,
-        limits.safety_distance_m
-    );
     assert!(s.speed_held, "telemetry speed {}", s.max_speed_mps);
-    let top_speed_mps = limits.max_speed_mps * (1.0 + fly::SPEED_TOLERANCE);
-    assert!(
-        truth.top_speed_mps <= top_speed_mps,
-        "true speed {:.3} m/s > {top_speed_mps:.3} m/s",
-        truth.top_speed_mps
-    );
+    assert_truth_kept_separation_and_speed(mission, truth);
     assert!(s.completed, "completed");
     assert!(
         s.max_final_distance_to_goal_m <= arrival_m,

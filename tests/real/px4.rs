@@ -150,18 +150,25 @@ fn boot_fleet(mission: &Mission, bin: &Path, stop: Instant) -> Fleet {
 /// (`fly::vehicle_limits`: `MPC_LAND_SPEED`, `MPC_Z_V_AUTO_DN`, `MPC_Z_VEL_MAX_DN`),
 /// one run in four failed on speed alone: 1.06 m/s against 1.00 m/s + 5 % during
 /// PX4's LAND descent at its defaults (2026-12-02).
+///
+/// SIH's estimator fails now and then on a loaded machine: in about one run in
+/// seven one vehicle's estimate ran away from its truth during takeoff (CI,
+/// 2026-12-06: r1's telemetry said 1.45 m/s while no vehicle truly flew faster
+/// than 0.56 m/s; it never settled above its pad, and after the 60 s takeoff
+/// timeout swarmctl held and landed everyone, separation held). That is the
+/// firmware's estimator, not swarmctl: a flight whose telemetry reports a speed
+/// the truth never had is checked for what the truth must still show —
+/// separation and the speed limit — and flown once more on a fresh fleet.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn formation_change_on_real_px4() {
     let _one = fleet::ONE_AT_A_TIME.lock().await;
-    let started = Instant::now();
-    let links = tempfile::tempdir().expect("bin directory");
-    let bin = lay_out_bin(&px4_dir(), links.path());
     let (mission, plan) = mission("missions/formation-change-wide.yaml");
-    let fleet = boot_fleet(&mission, &bin, started + TEST_LIMIT);
-    let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
-    let log = fleet::fly(&fleet, &mission, &plan, abort_rx, TEST_LIMIT).await;
-    let truth = fleet::report("px4-formation-change-wide", &mission, &log, &fleet, started);
-    drop(fleet);
+    let (mut log, mut truth) = fly_wide_formation_change(&mission, &plan).await;
+    if let Some(why) = fleet::estimate_ran_away(&log, &truth) {
+        eprintln!("  {why}: the truth kept separation and speed; flying once more");
+        fleet::assert_truth_kept_separation_and_speed(&mission, &truth);
+        (log, truth) = fly_wide_formation_change(&mission, &plan).await;
+    }
     // A drone counts as arrived within the settle tolerance (a third of the
     // tracking bound here), but the final distance is read when the *last* one
     // arrives, and an SIH vehicle hovers 0.32 m (median) / 0.57 m (p95) from its
@@ -169,6 +176,23 @@ async fn formation_change_on_real_px4() {
     // (2026-12-02). What the safety argument needs is the tracking bound.
     let arrival_m = mission.limits.tracking_error_m;
     fleet::assert_flight_kept_the_guarantees(&mission, &log, &truth, arrival_m, 1.3);
+}
+
+/// One flight of `mission` on a freshly booted fleet, reported; the fleet is
+/// stopped before it returns.
+async fn fly_wide_formation_change(
+    mission: &Mission,
+    plan: &swarmctl::plan::DiscretePlan,
+) -> (swarmctl::fly::FlightLog, crate::truth::Figures) {
+    let started = Instant::now();
+    let links = tempfile::tempdir().expect("bin directory");
+    let bin = lay_out_bin(&px4_dir(), links.path());
+    let fleet = boot_fleet(mission, &bin, started + TEST_LIMIT);
+    let (_abort_tx, abort_rx) = tokio::sync::watch::channel(false);
+    let log = fleet::fly(&fleet, mission, plan, abort_rx, TEST_LIMIT).await;
+    let truth = fleet::report("px4-formation-change-wide", mission, &log, &fleet, started);
+    drop(fleet);
+    (log, truth)
 }
 
 /// `fly --dry-run` on two real PX4 (SIH) vehicles sets each one's fence and reads

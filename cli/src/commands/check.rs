@@ -115,22 +115,12 @@ fn print_fence(m: &mission::Mission) {
             plan.for_pad([pad.x, pad.y, 0.0])
         })
         .collect();
-    let span = |f: fn(&swarmctl::fly::VehicleFence) -> f64| {
-        let lo = fences.iter().map(f).fold(f64::INFINITY, f64::min);
-        let hi = fences.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
-        if (hi - lo).abs() < 0.05 {
-            format!("{lo:.1}")
-        } else {
-            format!("{lo:.1}–{hi:.1}")
-        }
-    };
-    println!(
-        "  fence      airspace + {:.1} m: {} m around each pad, {} m above it; on a breach the autopilot does: {}",
-        plan.margin_m,
-        span(|f| f.radius_m),
-        span(|f| f.max_altitude_m),
-        plan.action
-    );
+    if let Some(span) = swarmctl::fly::FenceSpan::of(&fences) {
+        println!(
+            "  fence      airspace + {:.1} m: {span}; on a breach the autopilot does: {}",
+            plan.margin_m, plan.action
+        );
+    }
 }
 
 /// The link budget: each drone's steady traffic each way, message by message,

@@ -32,8 +32,10 @@ use crate::mission::{FenceAction, Mission};
 use serde::{Deserialize, Serialize};
 
 mod parameters;
+mod span;
 
 pub use parameters::apply;
+pub use span::FenceSpan;
 
 /// The box that holds the mission's airspace (the world and the launch area),
 /// mission ENU metres, out to its voxels' faces.
