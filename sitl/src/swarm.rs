@@ -395,6 +395,16 @@ impl Swarm {
         }
     }
 
+    /// The system ids of the vehicles armed now, by truth: what a flight that
+    /// ended should leave empty.
+    pub fn armed_system_ids(&self) -> Vec<u8> {
+        (0..self.len())
+            .map(|i| self.snapshot(i))
+            .filter(|s| s.armed)
+            .map(|s| s.system_id)
+            .collect()
+    }
+
     /// Wall-clock intervals between the setpoints vehicle `index` received.
     ///
     /// # Panics

@@ -80,11 +80,7 @@ async fn fly_rogue(flavour: Flavour, faults: &[&str]) -> Rogue {
     while swarm.snapshot(rogue).armed && std::time::Instant::now() < deadline {
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
-    let still_armed: Vec<u8> = (0..swarm.len())
-        .map(|i| swarm.snapshot(i))
-        .filter(|s| s.armed)
-        .map(|s| s.system_id)
-        .collect();
+    let still_armed = swarm.armed_system_ids();
     swarm.shutdown().await;
     let log = result
         .expect("flight finished within its time limit")

@@ -47,11 +47,7 @@ pub async fn run_scenario(
     let (result, (truth_m, truth_scaled, ever_airborne)) =
         tokio::join!(flight, watch_truth(&swarm, ellipsoid, &done));
     let duration_s = started.elapsed().as_secs_f64();
-    let still_armed: Vec<u8> = (0..swarm.len())
-        .map(|i| swarm.snapshot(i))
-        .filter(|s| s.armed)
-        .map(|s| s.system_id)
-        .collect();
+    let still_armed = swarm.armed_system_ids();
     swarm.shutdown().await;
     let flown = Flown {
         result,
