@@ -28,6 +28,9 @@ pub struct GenerateOptions {
     pub pads: PadLayout,
     /// Random formations flown after the first, each a `stages` entry.
     pub stages: usize,
+    /// Formations on a lattice this many voxels apart, as drone shows fly them
+    /// (`None`: random free voxels). See [`generate`].
+    pub spacing: Option<u32>,
 }
 
 /// Where a generated mission puts its launch pads.
@@ -53,6 +56,7 @@ impl Default for GenerateOptions {
             voxel_size_m: 1.0,
             pads: PadLayout::Default,
             stages: 0,
+            spacing: None,
         }
     }
 }
@@ -79,6 +83,11 @@ const MAX_ATTEMPTS: usize = 10_000;
 /// (so every drone can reach every goal), distinct free starts, distinct free goals,
 /// drones split into groups as evenly as possible. The same options give the same mission.
 ///
+/// With a `spacing`, starts and goals are free points of a lattice that many
+/// voxels apart, as a show's formations are: the drones start on its lowest
+/// layers, south to north (a carpet), the first formation is the lattice points
+/// nearest the world's centre (a ball), and each stage a random draw of them.
+///
 /// ```
 /// use swarmctl::generate::{generate, GenerateOptions};
 /// let file = generate(&GenerateOptions { drones: 10, groups: 3, ..Default::default() }).unwrap();
@@ -96,6 +105,7 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         voxel_size_m,
         pads,
         stages,
+        spacing,
     } = *options;
     let total: usize = dimensions.iter().map(|&d| d as usize).product();
     if dimensions.contains(&0) {
@@ -129,15 +139,15 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         })
         .ok_or(GenerateError::Disconnected(MAX_ATTEMPTS))?;
 
-    let mut free: Vec<Voxel> = (0..total)
-        .filter(|&c| world.is_free_cell(c))
-        .map(|c| world.voxel(c))
-        .collect();
-    free.shuffle(&mut rng);
-    let starts = free[..drones].to_vec();
-    free.shuffle(&mut rng);
-    let goals = free[..drones].to_vec();
-
+    let mut free = free_points(&world, spacing);
+    if free.len() < drones {
+        return Err(GenerateError::Impossible(format!(
+            "{drones} drones do not fit on the {} free points of a lattice {} voxels apart",
+            free.len(),
+            spacing.unwrap_or(1)
+        )));
+    }
+    let (starts, goals) = formations(&mut free, drones, spacing, dimensions, &mut rng);
     let to_raw = |v: Voxel| [i64::from(v.x), i64::from(v.y), i64::from(v.z)];
     let starts: Vec<[i64; 3]> = starts.into_iter().map(to_raw).collect();
     let goals: Vec<[i64; 3]> = goals.into_iter().map(to_raw).collect();
@@ -149,13 +159,17 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         .map(|k| random_stage(k, &group_specs, &mut free, &mut rng))
         .collect();
 
+    let lattice = spacing.map_or_else(String::new, |s| format!("-l{s}"));
+    let on = spacing.map_or_else(String::new, |s| {
+        format!(", formations on a lattice {s} voxels apart")
+    });
     Ok(MissionFile {
         name: format!(
-            "random-{}x{}x{}-o{obstacles}-d{drones}-g{groups}-s{seed}",
+            "random-{}x{}x{}-o{obstacles}-d{drones}-g{groups}-s{seed}{lattice}",
             dimensions[0], dimensions[1], dimensions[2]
         ),
         description: Some(format!(
-            "Random mission (swarmctl gen --seed {seed}): {obstacles} obstacles, {drones} drones in {groups} groups."
+            "Random mission (swarmctl gen --seed {seed}): {obstacles} obstacles, {drones} drones in {groups} groups{on}."
         )),
         world: WorldSpec {
             dimensions: dimensions.map(i64::from),
@@ -184,6 +198,50 @@ pub fn generate(options: &GenerateOptions) -> Result<MissionFile, GenerateError>
         landing: None,
         fence: FenceSpec::default(),
     })
+}
+
+/// The free voxels of `world` in cell order, only the lattice's points with a
+/// `spacing`.
+fn free_points(world: &VoxelGrid, spacing: Option<u32>) -> Vec<Voxel> {
+    let on_lattice = |v: &Voxel| {
+        spacing.is_none_or(|s| {
+            let s = i32::try_from(s.max(1)).unwrap_or(i32::MAX);
+            [v.x, v.y, v.z].iter().all(|&c| c.rem_euclid(s) == 0)
+        })
+    };
+    (0..world.len())
+        .filter(|&c| world.is_free_cell(c))
+        .map(|c| world.voxel(c))
+        .filter(on_lattice)
+        .collect()
+}
+
+/// `drones` starts and as many goals among the `free` voxels: random ones, or on
+/// a lattice (`spacing`, `free` holding only its points in cell order) the
+/// lowest layers' for starts and those nearest the world's centre for goals.
+fn formations(
+    free: &mut [Voxel],
+    drones: usize,
+    spacing: Option<u32>,
+    dimensions: [u32; 3],
+    rng: &mut ChaCha8Rng,
+) -> (Vec<Voxel>, Vec<Voxel>) {
+    if spacing.is_none() {
+        free.shuffle(rng);
+        let starts = free[..drones].to_vec();
+        free.shuffle(rng);
+        return (starts, free[..drones].to_vec());
+    }
+    // The cell order is z, then y, then x: the lowest layers first.
+    let starts = free[..drones].to_vec();
+    let centre = dimensions.map(|d| i64::from(d) - 1);
+    let from_centre = |v: &Voxel| {
+        let d = [v.x, v.y, v.z].map(i64::from);
+        (0..3).map(|k| (2 * d[k] - centre[k]).pow(2)).sum::<i64>()
+    };
+    let mut nearest = free.to_vec();
+    nearest.sort_by_key(|v| (from_centre(v), v.z, v.y, v.x));
+    (starts, nearest[..drones].to_vec())
 }
 
 /// Writes explicit pads in a launch area around the world: rings of growing
@@ -343,6 +401,75 @@ mod tests {
         })
         .unwrap();
         assert_eq!(plain.groups, again.groups);
+    }
+
+    #[test]
+    fn lattice_formations_are_spaced_and_valid() {
+        let options = GenerateOptions {
+            dimensions: [12, 12, 6],
+            obstacles: 0,
+            drones: 40,
+            groups: 2,
+            spacing: Some(2),
+            stages: 1,
+            ..Default::default()
+        };
+        let file = generate(&options).unwrap();
+        let points = file
+            .groups
+            .iter()
+            .flat_map(|g| {
+                g.drones
+                    .iter()
+                    .filter_map(|d| d.start)
+                    .chain(g.goals.iter().copied())
+            })
+            .chain(
+                file.stages
+                    .iter()
+                    .flat_map(|s| s.goals.values().flatten().copied()),
+            );
+        for p in points {
+            assert!(p.iter().all(|c| c % 2 == 0), "{p:?} is off the lattice");
+        }
+        // A carpet: 36 lattice points a layer, so 36 drones on layer 0 and 4 on layer 2.
+        let starts: Vec<[i64; 3]> = file
+            .groups
+            .iter()
+            .flat_map(|g| g.drones.iter().filter_map(|d| d.start))
+            .collect();
+        assert_eq!(starts.iter().filter(|s| s[2] == 0).count(), 36);
+        // A ball: no lattice point left out is nearer the centre (5.5, 5.5, 2.5)
+        // than a goal.
+        let twice_from_centre =
+            |p: &[i64; 3]| (2 * p[0] - 11).pow(2) + (2 * p[1] - 11).pow(2) + (2 * p[2] - 5).pow(2);
+        let goals: Vec<[i64; 3]> = file
+            .groups
+            .iter()
+            .flat_map(|g| g.goals.iter().copied())
+            .collect();
+        let farthest_goal = goals.iter().map(twice_from_centre).max().unwrap();
+        let lattice = (0..6)
+            .flat_map(|x| (0..6).flat_map(move |y| (0..3).map(move |z| [2 * x, 2 * y, 2 * z])));
+        let nearest_left_out = lattice
+            .filter(|p| !goals.contains(p))
+            .map(|p| twice_from_centre(&p))
+            .min()
+            .unwrap();
+        assert!(
+            farthest_goal <= nearest_left_out,
+            "{farthest_goal} > {nearest_left_out}"
+        );
+        let mission = crate::mission::validate(&file).unwrap();
+        assert_eq!(mission.drone_count(), 40);
+        let too_many = GenerateOptions {
+            drones: 200,
+            ..options
+        };
+        assert!(matches!(
+            generate(&too_many),
+            Err(GenerateError::Impossible(_))
+        ));
     }
 
     #[test]

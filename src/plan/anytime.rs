@@ -39,12 +39,13 @@ pub(super) enum Effort {
 /// no more); else the exact search for a better one, capped below the first
 /// plan's makespan, until [`improve_until`]. Past that, the first plan with the
 /// bound proven so far, or (with `require_optimal`) the deadline error. The
-/// search started at `started`.
+/// search started at `started`; an `incumbent` (a plan found before, with the
+/// time it took) stands in for the first plan.
 pub(super) fn plan_anytime(
     space: &Space,
     (cells, lower_bounds, assigned): (&[GroupCells], &[u32], &[Vec<u32>]),
     (options, legs_after, effort): (&PlanOptions, usize, Effort),
-    started: Instant,
+    (started, incumbent): (Instant, Option<(FirstPlan, Duration)>),
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Routed, PlanError> {
     let initial_lower_bound = lower_bounds.iter().copied().max().unwrap_or(0);
@@ -58,6 +59,7 @@ pub(super) fn plan_anytime(
         ..PlanStats::default()
     };
     let mut head_start_used = Duration::ZERO;
+    let straight = incumbent.is_some();
     let first = if options.first_plan {
         // Where the exact search is quick, as on most instances of a few hundred
         // drones, a first plan would only cost time: it gets a short head start.
@@ -85,10 +87,12 @@ pub(super) fn plan_anytime(
             Err(proof) => return Err(proof),
         }
         let groups = (cells, lower_bounds, assigned);
-        first_plan_within(space, groups, (started, options), progress)
+        incumbent.or_else(|| first_plan_within(space, groups, (started, options), progress))
     } else {
-        None
+        incumbent
     };
+    // Past a head start, an incumbent is the first plan.
+    stats.straight_line_legs = u32::from(straight && first.is_some());
     let first_steps = first.as_ref().map(|(f, _)| f.makespan);
     stats.first_plan_steps = first_steps;
     stats.first_plan_time = first.as_ref().map_or_else(Duration::default, |(_, t)| *t);
@@ -177,11 +181,16 @@ const BIG_LEG_WORK: u64 = 150_000_000;
 /// Racing the two on both cores would spare the choice.
 fn head_start(space: &Space, cells: &[GroupCells], bound: u32, options: &PlanOptions) -> Duration {
     let drones: usize = cells.iter().map(|g| g.starts.len()).sum();
-    let work = drones as u64 * space.len() as u64 * u64::from(bound.max(1));
-    if work >= BIG_LEG_WORK {
+    if is_big_leg(drones, space, bound) {
         return Duration::ZERO;
     }
     (options.deadline / 4).min(Duration::from_secs(5))
+}
+
+/// Whether a leg of `drones` in `space` with a makespan of at least `bound` is
+/// big (see [`BIG_LEG_WORK`]): its exact search takes seconds.
+pub(super) fn is_big_leg(drones: usize, space: &Space, bound: u32) -> bool {
+    drones as u64 * space.len() as u64 * u64::from(bound.max(1)) >= BIG_LEG_WORK
 }
 
 /// Until when the exact search may try to beat a first plan reached after `first`

@@ -1,10 +1,12 @@
 //! Target assignment and path finding (TAPF): one collision-free voxel path per drone,
 //! each group's goals assigned to its drones, with the least possible makespan.
 //!
-//! Each leg is planned anytime (`anytime`): a first plan fast (`first_plan`: PIBT
-//! towards a bottleneck assignment of goals), then the exact search below to beat
-//! it, stopping when it meets the lower bound, proves it optimal, or runs out of
-//! time; the plan states the gap between its makespan and the bound proven.
+//! Each leg is planned anytime (`anytime`): a first plan fast (`open_sky`:
+//! straight lines where nothing stands between the formations; else
+//! `first_plan`: PIBT towards a bottleneck assignment of goals), then the exact
+//! search below to beat it, stopping when it meets the lower bound, proves it
+//! optimal, or runs out of time; the plan states the gap between its makespan
+//! and the bound proven.
 //!
 //! [`solve_tapf`] runs CBM: a conflict tree over groups whose low level routes one
 //! group at a time as a flow on a time-expanded network. When the tree grows past a
@@ -34,6 +36,7 @@ mod matching;
 mod max_flow;
 mod min_cost_flow;
 mod network;
+mod open_sky;
 mod options;
 mod paths;
 mod replan;

@@ -2,17 +2,19 @@
 //! what a whole flight's legs (`flight`) need of it: a leg as a TAPF instance,
 //! solved in a compact space built once.
 
-use super::anytime::{Effort, plan_anytime};
+use super::anytime::{Effort, is_big_leg, plan_anytime};
 use super::discrete_plan::DiscretePlan;
 use super::error::PlanError;
+use super::first_plan::FirstPlan;
 use super::lower_bound::bottleneck_assignment_in;
 use super::network::GroupCells;
+use super::open_sky::straight_lines;
 use super::options::PlanOptions;
 use super::space::{NONE, Space};
 use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
 use crate::mission::{Mission, Targets, contested};
 use crate::world::{Voxel, VoxelGrid};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// A plan with the figures that go with it.
 #[derive(Debug, Clone, PartialEq)]
@@ -188,6 +190,16 @@ pub(super) fn solve_in_space(
             stacked: contest.stacked,
         });
     }
+    let incumbent = match open_sky(
+        grid,
+        space,
+        (groups, &free_goals),
+        (options, effort),
+        started,
+    ) {
+        Ok(answer) => return Ok(answer),
+        Err(incumbent) => incumbent,
+    };
     let mut cells = Vec::with_capacity(groups.len());
     let mut lower_bounds = Vec::with_capacity(groups.len());
     let mut assigned = Vec::with_capacity(groups.len());
@@ -225,7 +237,7 @@ pub(super) fn solve_in_space(
     }
     let legs = (options, legs_after, effort);
     let groups = (&cells[..], &lower_bounds[..], &assigned[..]);
-    let routed = plan_anytime(space, groups, legs, started, progress)?;
+    let routed = plan_anytime(space, groups, legs, (started, incumbent), progress)?;
     let (paths, makespan) = (&routed.paths, routed.makespan);
     Ok(tapf_solution(
         grid,
@@ -235,6 +247,59 @@ pub(super) fn solve_in_space(
         routed.stats,
         started,
     ))
+}
+
+/// The leg on straight lines where it is open sky (see `open_sky`), tried within
+/// a quarter of the deadline (where lines meet, the rest is the search's): `Ok`
+/// with the answer when they meet their bound, or as a big leg's first answer
+/// (its bounds and exact search take seconds); else `Err` with the incumbent
+/// for the search to beat, if any, and when it was found.
+fn open_sky(
+    grid: &VoxelGrid,
+    space: &Space,
+    (groups, free_goals): (&[TapfGroup], &[Vec<Voxel>]),
+    (options, effort): (&PlanOptions, Effort),
+    started: Instant,
+) -> Result<TapfSolution, Option<(FirstPlan, Duration)>> {
+    if !options.first_plan {
+        return Err(None);
+    }
+    let ends: Vec<(&[Voxel], &[Voxel])> = groups
+        .iter()
+        .zip(free_goals)
+        .map(|(g, goals)| (&g.starts[..], &goals[..]))
+        .collect();
+    let until = started + options.deadline / 4;
+    let Some(lines) = straight_lines(grid, space, &ends, until) else {
+        return Err(None);
+    };
+    let proven = lines.makespan <= lines.lower_bound;
+    let drones = groups.iter().map(|g| g.starts.len()).sum();
+    let big = is_big_leg(drones, space, lines.lower_bound);
+    if proven || (effort == Effort::FirstPlan && big) {
+        let stats = PlanStats {
+            initial_lower_bound_steps: lines.lower_bound,
+            best_lower_bound_steps: lines.lower_bound,
+            first_plan_steps: Some(lines.makespan),
+            first_plan_time: started.elapsed(),
+            straight_line_legs: 1,
+            ..PlanStats::default()
+        };
+        return Ok(tapf_solution(
+            grid,
+            space,
+            &lines.paths,
+            lines.makespan,
+            stats,
+            started,
+        ));
+    }
+    let first = FirstPlan {
+        paths: lines.paths,
+        makespan: lines.makespan,
+        complete: true,
+    };
+    Err(Some((first, started.elapsed())))
 }
 
 /// A TAPF solution from compact paths (per group, per drone), each padded with

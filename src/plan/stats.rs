@@ -33,6 +33,10 @@ pub struct PlanStats {
     /// Wall time making the first plan (serialised as `first_plan_time_s`, seconds).
     #[serde(rename = "first_plan_time_s", serialize_with = "as_seconds")]
     pub first_plan_time: Duration,
+    /// Whether the first plan flew straight lines (open sky: nothing between the
+    /// formations) rather than PIBT's steps; for a whole flight, how many legs did.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub straight_line_legs: u32,
     /// Wall time of the whole call, from the lower bounds to the plan (serialised as
     /// `total_time_s`, seconds).
     #[serde(rename = "total_time_s", serialize_with = "as_seconds")]
@@ -59,11 +63,18 @@ pub struct LegStats {
     /// Time to its first plan (serialised as `first_plan_time_s`, seconds).
     #[serde(rename = "first_plan_time_s", serialize_with = "as_seconds")]
     pub first_plan_time: Duration,
+    /// Whether its first plan flew straight lines (open sky).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub straight_lines: bool,
     /// Conflict-tree nodes expanded for it.
     pub ct_nodes_expanded: u64,
     /// Its planning time (serialised as `time_s`, seconds).
     #[serde(rename = "time_s", serialize_with = "as_seconds")]
     pub time: Duration,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
 }
 
 fn as_seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
@@ -84,6 +95,7 @@ impl PlanStats {
         self.sat_horizons += leg.sat_horizons;
         self.sat_time += leg.sat_time;
         self.first_plan_time += leg.first_plan_time;
+        self.straight_line_legs += leg.straight_line_legs;
         self.first_plan_steps = match (self.first_plan_steps, leg.first_plan_steps) {
             (None, _) if !self.legs.is_empty() => None,
             (Some(total), Some(steps)) => Some(total + steps),
@@ -97,6 +109,7 @@ impl PlanStats {
             proven_bound_steps: leg.best_lower_bound_steps,
             first_plan_steps: leg.first_plan_steps,
             first_plan_time: leg.first_plan_time,
+            straight_lines: leg.straight_line_legs > 0,
             ct_nodes_expanded: leg.ct_nodes_expanded,
             time: leg.total_time,
         });

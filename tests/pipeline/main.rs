@@ -15,6 +15,7 @@ mod ground_to_ground;
 mod import_inputs;
 mod layering;
 mod mission_validation;
+mod open_sky;
 mod plan_optimality;
 mod schedule_cases;
 mod schedule_missions;

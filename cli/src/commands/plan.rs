@@ -193,8 +193,13 @@ fn print_solution(
     for leg in &s.legs {
         let first = match leg.first_plan_steps {
             Some(steps) => format!(
-                "first plan {} in {:.3} s",
+                "first plan {}{} in {:.3} s",
                 count(u64::from(steps), "step"),
+                if leg.straight_lines {
+                    " on straight lines"
+                } else {
+                    ""
+                },
                 leg.first_plan_time.as_secs_f64()
             ),
             None => "no first plan".to_string(),
