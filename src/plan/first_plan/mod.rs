@@ -94,7 +94,7 @@ pub(crate) fn first_plan(
         });
         if at_goal == drones {
             return Some(FirstPlan {
-                paths: regroup(groups, trail),
+                paths: regroup(groups.iter().map(|g| g.starts.len()), trail),
                 makespan: step,
                 complete: true,
             });
@@ -107,7 +107,7 @@ pub(crate) fn first_plan(
                 path.truncate(best.0 as usize + 1);
             }
             return Some(FirstPlan {
-                paths: regroup(groups, trail),
+                paths: regroup(groups.iter().map(|g| g.starts.len()), trail),
                 makespan: best.0,
                 complete: false,
             });
@@ -176,12 +176,16 @@ fn trade_goals(
     }
 }
 
-/// Per-drone trails back into per-group lists, in each group's start order.
-fn regroup(groups: &[GroupCells], trail: Vec<Vec<u32>>) -> Vec<Vec<Vec<u32>>> {
+/// Per-drone trails (flattened across groups in order) back into per-group
+/// lists of the given sizes.
+pub(super) fn regroup(
+    sizes: impl IntoIterator<Item = usize>,
+    trail: Vec<Vec<u32>>,
+) -> Vec<Vec<Vec<u32>>> {
     let mut trail = trail.into_iter();
-    groups
-        .iter()
-        .map(|g| trail.by_ref().take(g.starts.len()).collect())
+    sizes
+        .into_iter()
+        .map(|size| trail.by_ref().take(size).collect())
         .collect()
 }
 

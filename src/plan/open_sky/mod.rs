@@ -31,6 +31,7 @@ mod assignment;
 mod staircase;
 
 use super::conflict::{Conflict, first_conflict};
+use super::first_plan::regroup;
 use super::space::{NONE, Space};
 use crate::world::{Voxel, VoxelGrid};
 use assignment::{Point, pairwise_stable};
@@ -62,27 +63,25 @@ pub(super) fn straight_lines(
     groups: &[(&[Voxel], &[Voxel])],
     until: Instant,
 ) -> Option<StraightLines> {
-    let point = |v: &Voxel| [v.x, v.y, v.z];
     // Every drone's line, flattened across groups in order.
-    let mut lines: Vec<(Point, Point)> = Vec::new();
-    for (starts, goals) in groups {
-        let starts: Vec<Point> = starts.iter().map(point).collect();
-        let goals: Vec<Point> = goals.iter().map(point).collect();
-        let goal_of = pairwise_stable(&starts, &goals, until)?;
+    let mut lines: Vec<(Voxel, Voxel)> = Vec::new();
+    for &(starts, goals) in groups {
+        let points =
+            |voxels: &[Voxel]| -> Vec<Point> { voxels.iter().map(|&v| v.into()).collect() };
+        let goal_of = pairwise_stable(&points(starts), &points(goals), until)?;
         lines.extend(starts.iter().zip(goal_of).map(|(&s, g)| (s, goals[g])));
     }
     let makespan = lines
         .iter()
-        .map(|&(a, b)| manhattan(a, b))
+        .map(|&(a, b)| a.manhattan(b))
         .max()
         .unwrap_or(0);
     let compact = |p: Point| {
-        let c = grid.cell(Voxel::new(p[0], p[1], p[2]))?;
-        let c = space.compact(c);
+        let c = space.compact(grid.cell(p.into())?);
         (c != NONE).then_some(c)
     };
-    let fly = |(from, to): (Point, Point), variant: u8| -> Option<Vec<u32>> {
-        staircase(from, to, makespan, variant)
+    let fly = |(from, to): (Voxel, Voxel), variant: u8| -> Option<Vec<u32>> {
+        staircase(from.into(), to.into(), makespan, variant)
             .into_iter()
             .map(compact)
             .collect()
@@ -107,7 +106,7 @@ pub(super) fn straight_lines(
                 .max()
                 .unwrap_or(0);
             return Some(StraightLines {
-                paths: regroup(groups, paths),
+                paths: regroup(groups.iter().map(|(starts, _)| starts.len()), paths),
                 makespan,
                 lower_bound,
             });
@@ -148,21 +147,11 @@ fn drones_of(conflict: &Conflict) -> Option<[usize; 2]> {
     }
 }
 
-/// Flattened per-drone paths back into per-group lists, in each group's order.
-fn regroup(groups: &[(&[Voxel], &[Voxel])], paths: Vec<Vec<u32>>) -> Vec<Vec<Vec<u32>>> {
-    let mut paths = paths.into_iter();
-    groups
-        .iter()
-        .map(|(starts, _)| paths.by_ref().take(starts.len()).collect())
-        .collect()
-}
-
 /// See [`StraightLines::lower_bound`]: one group's.
 fn nearest_bound(starts: &[Voxel], goals: &[Voxel]) -> u32 {
-    let point = |v: &Voxel| [v.x, v.y, v.z];
     let farthest_to_nearest = |from: &[Voxel], to: &[Voxel]| {
         from.iter()
-            .filter_map(|a| to.iter().map(|b| manhattan(point(a), point(b))).min())
+            .filter_map(|&a| to.iter().map(|&b| a.manhattan(b)).min())
             .max()
             .unwrap_or(0)
     };
@@ -172,10 +161,6 @@ fn nearest_bound(starts: &[Voxel], goals: &[Voxel]) -> u32 {
     } else {
         drones
     }
-}
-
-fn manhattan(a: Point, b: Point) -> u32 {
-    (0..3).map(|k| a[k].abs_diff(b[k])).sum()
 }
 
 #[cfg(test)]
