@@ -39,13 +39,12 @@ pub(super) enum Effort {
 /// no more); else the exact search for a better one, capped below the first
 /// plan's makespan, until [`improve_until`]. Past that, the first plan with the
 /// bound proven so far, or (with `require_optimal`) the deadline error. The
-/// search started at `started`; an `incumbent` (a plan found before, with the
-/// time it took) stands in for the first plan.
+/// search started at `started`.
 pub(super) fn plan_anytime(
     space: &Space,
     (cells, lower_bounds, assigned): (&[GroupCells], &[u32], &[Vec<u32>]),
     (options, legs_after, effort): (&PlanOptions, usize, Effort),
-    (started, incumbent): (Instant, Option<(FirstPlan, Duration)>),
+    started: Instant,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Routed, PlanError> {
     let initial_lower_bound = lower_bounds.iter().copied().max().unwrap_or(0);
@@ -59,7 +58,6 @@ pub(super) fn plan_anytime(
         ..PlanStats::default()
     };
     let mut head_start_used = Duration::ZERO;
-    let straight = incumbent.is_some();
     let first = if options.first_plan {
         // Where the exact search is quick, as on most instances of a few hundred
         // drones, a first plan would only cost time: it gets a short head start.
@@ -87,12 +85,10 @@ pub(super) fn plan_anytime(
             Err(proof) => return Err(proof),
         }
         let groups = (cells, lower_bounds, assigned);
-        incumbent.or_else(|| first_plan_within(space, groups, (started, options), progress))
+        first_plan_within(space, groups, (started, options), progress)
     } else {
-        incumbent
+        None
     };
-    // Past a head start, an incumbent is the first plan.
-    stats.straight_line_legs = u32::from(straight && first.is_some());
     let first_steps = first.as_ref().map(|(f, _)| f.makespan);
     stats.first_plan_steps = first_steps;
     stats.first_plan_time = first.as_ref().map_or_else(Duration::default, |(_, t)| *t);
