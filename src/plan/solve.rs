@@ -253,7 +253,10 @@ pub(super) fn solve_in_space(
 /// bounds and exact search take seconds). Anywhere else they are not used: as
 /// the search's incumbent in place of PIBT's first plan they cost optimality on
 /// the `scale` suite (a landing leg left 5–8 steps above its bound, which the
-/// search beat from PIBT's plan).
+/// search beat from PIBT's plan). Whether they would be used is known from the
+/// assignment's longest line before any staircase is flown, so a leg where
+/// they cannot be pays for the assignment only (a big leg's improving pass
+/// no longer flies and checks its staircases a second time).
 fn open_sky(
     grid: &VoxelGrid,
     space: &Space,
@@ -270,29 +273,28 @@ fn open_sky(
         .map(|(g, goals)| (&g.starts[..], &goals[..]))
         .collect();
     let until = started + options.deadline / 4;
-    let lines = straight_lines(grid, space, &ends, until)?;
-    let proven = lines.makespan <= lines.lower_bound;
     let drones = groups.iter().map(|g| g.starts.len()).sum();
-    let big = is_big_leg(drones, space, lines.lower_bound);
-    if proven || (effort == Effort::FirstPlan && big) {
-        let stats = PlanStats {
-            initial_lower_bound_steps: lines.lower_bound,
-            best_lower_bound_steps: lines.lower_bound,
-            first_plan_steps: Some(lines.makespan),
-            first_plan_time: started.elapsed(),
-            straight_line_legs: 1,
-            ..PlanStats::default()
-        };
-        return Some(tapf_solution(
-            grid,
-            space,
-            &lines.paths,
-            lines.makespan,
-            stats,
-            started,
-        ));
-    }
-    None
+    let used = |makespan: u32, lower_bound: u32| {
+        makespan <= lower_bound
+            || (effort == Effort::FirstPlan && is_big_leg(drones, space, lower_bound))
+    };
+    let lines = straight_lines(grid, space, &ends, until, used)?;
+    let stats = PlanStats {
+        initial_lower_bound_steps: lines.lower_bound,
+        best_lower_bound_steps: lines.lower_bound,
+        first_plan_steps: Some(lines.makespan),
+        first_plan_time: started.elapsed(),
+        straight_line_legs: 1,
+        ..PlanStats::default()
+    };
+    Some(tapf_solution(
+        grid,
+        space,
+        &lines.paths,
+        lines.makespan,
+        stats,
+        started,
+    ))
 }
 
 /// A TAPF solution from compact paths (per group, per drone), each padded with

@@ -56,12 +56,15 @@ pub(super) struct StraightLines {
 /// straight lines, or `None` when it is not open sky: a line leaves the free
 /// cells of `space` whichever way it is flown, lines still meet after a bounded
 /// number of repairs (a drone flying another staircase of its line), or `until`
-/// passes first.
+/// passes first. `None` too, before any staircase is flown, when `wanted` says
+/// lines of that makespan (the longest assigned line) against that lower bound
+/// would not be used: staircases and their checks are most of the cost.
 pub(super) fn straight_lines(
     grid: &VoxelGrid,
     space: &Space,
     groups: &[(&[Voxel], &[Voxel])],
     until: Instant,
+    wanted: impl Fn(u32, u32) -> bool,
 ) -> Option<StraightLines> {
     // Every drone's line, flattened across groups in order.
     let mut lines: Vec<(Voxel, Voxel)> = Vec::new();
@@ -76,6 +79,14 @@ pub(super) fn straight_lines(
         .map(|&(a, b)| a.manhattan(b))
         .max()
         .unwrap_or(0);
+    let lower_bound = groups
+        .iter()
+        .map(|(starts, goals)| nearest_bound(starts, goals))
+        .max()
+        .unwrap_or(0);
+    if !wanted(makespan, lower_bound) {
+        return None;
+    }
     let compact = |p: Point| {
         let c = space.compact(grid.cell(p.into())?);
         (c != NONE).then_some(c)
@@ -100,11 +111,6 @@ pub(super) fn straight_lines(
         // Each drone on its own, so that drones of one group are checked too.
         let per_drone: Vec<&[Vec<u32>]> = paths.iter().map(std::slice::from_ref).collect();
         let Some(conflict) = first_conflict(&per_drone, space, makespan).0 else {
-            let lower_bound = groups
-                .iter()
-                .map(|(starts, goals)| nearest_bound(starts, goals))
-                .max()
-                .unwrap_or(0);
             return Some(StraightLines {
                 paths: regroup(groups.iter().map(|(starts, _)| starts.len()), paths),
                 makespan,
@@ -172,6 +178,11 @@ mod tests {
         Instant::now() + Duration::from_secs(60)
     }
 
+    /// Lines of any makespan are wanted.
+    fn any() -> impl Fn(u32, u32) -> bool {
+        |_, _| true
+    }
+
     fn voxels(points: &[[i32; 3]]) -> Vec<Voxel> {
         points
             .iter()
@@ -185,7 +196,7 @@ mod tests {
         let space = Space::new(&grid, 0);
         let starts = voxels(&(0..4).map(|i| [2 * i, 0, 0]).collect::<Vec<_>>());
         let goals = voxels(&[[2, 4, 4], [4, 4, 4], [2, 6, 4], [4, 6, 4]]);
-        let lines = straight_lines(&grid, &space, &[(&starts, &goals)], far()).unwrap();
+        let lines = straight_lines(&grid, &space, &[(&starts, &goals)], far(), any()).unwrap();
         // The farthest drone (6, 0, 0) is 2 + 4 + 4 = 10 moves from its nearest
         // goal (4, 4, 4), as the goals (2, 6, 4) and (4, 6, 4) are from theirs.
         assert_eq!(lines.lower_bound, 10);
@@ -219,7 +230,7 @@ mod tests {
         let space = Space::new(&grid, 0);
         let starts = voxels(&[[0, 0, 0], [6, 0, 0]]);
         let goals = voxels(&[[0, 6, 4], [6, 6, 4]]);
-        assert!(straight_lines(&grid, &space, &[(&starts, &goals)], far()).is_none());
+        assert!(straight_lines(&grid, &space, &[(&starts, &goals)], far(), any()).is_none());
     }
 
     #[test]
@@ -230,10 +241,10 @@ mod tests {
         let space = Space::new(&grid, 0);
         let (west, east) = (voxels(&[[0, 0, 0]]), voxels(&[[4, 0, 0]]));
         let groups = [(&west[..], &east[..]), (&east[..], &west[..])];
-        assert!(straight_lines(&grid, &space, &groups, far()).is_none());
+        assert!(straight_lines(&grid, &space, &groups, far(), any()).is_none());
         // One group of both: they keep their ends and wait.
         let both = voxels(&[[0, 0, 0], [4, 0, 0]]);
-        let lines = straight_lines(&grid, &space, &[(&both, &both)], far()).unwrap();
+        let lines = straight_lines(&grid, &space, &[(&both, &both)], far(), any()).unwrap();
         assert_eq!(lines.makespan, 0);
     }
 }
