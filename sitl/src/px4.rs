@@ -177,6 +177,10 @@ impl Imitation for Px4 {
             ("COM_DISARM_LAND", 2.0),
             ("MPC_XY_VEL_MAX", config.max_speed_mps),
             ("MPC_ACC_HOR_MAX", config.max_accel_mps2),
+            // PX4's default position gains (1/s), which swarmctl reads to taper
+            // its acceleration feed-forward by the velocity clamp.
+            ("MPC_XY_P", 0.95),
+            ("MPC_Z_P", 1.0),
             // PX4's defaults. The mock descends at MPC_LAND_SPEED from any
             // height (PX4 descends at MPC_Z_V_AUTO_DN above MPC_LAND_ALT2, which
             // mock missions never reach).

@@ -24,6 +24,7 @@ mod drone;
 mod dry_run;
 mod error;
 mod executor;
+mod feedforward;
 mod fence;
 mod follower;
 mod freeze;
@@ -140,11 +141,13 @@ pub async fn fly_checked(
         .zip(&checked)
         .enumerate()
         .map(|(i, ((route, session), checked))| {
-            let follower = Follower::new(commanded.kinematics(), checked.accel_lead_s);
+            let response = checked.own_response;
+            let follower = Follower::new(commanded.kinematics(), response.accel_lead_s);
             let vehicle = drone::Vehicle {
                 session,
                 flavour: checked.flavour,
                 placed: checked.placed,
+                speed_clamp: response.speed_clamp,
             };
             DroneRun::new(i, route, vehicle, follower, commands.clone())
         })

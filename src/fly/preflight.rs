@@ -115,7 +115,7 @@ async fn check_one(
             }
         }
     };
-    let accel_lead_s = super::vehicle_limits::apply(
+    let own_response = super::vehicle_limits::apply(
         &id,
         &session,
         flavour,
@@ -138,7 +138,7 @@ async fn check_one(
     Ok(Checked {
         flavour,
         placed,
-        accel_lead_s,
+        own_response,
         quieted,
         fence,
     })
@@ -194,9 +194,9 @@ pub struct Checked {
     pub flavour: &'static dyn Flavour,
     /// Its local frame.
     pub placed: Placed,
-    /// How far ahead its acceleration feed-forward is sent, seconds
-    /// (see [`super::vehicle_limits::accel_lead_s`]).
-    pub accel_lead_s: f64,
+    /// How its controller takes our feed-forward (see
+    /// [`super::vehicle_limits::OwnResponse`]).
+    pub own_response: super::vehicle_limits::OwnResponse,
     /// The default streams turned off to keep to the link budget, and any the
     /// vehicle kept sending.
     pub quieted: Quieted,

@@ -12,6 +12,7 @@
 //! own landing is slowed to the commanded speed, never sped up (see [`parameters`]).
 
 use super::autopilot::{Flavour, OwnLimits, Setting};
+use crate::fly::feedforward::SpeedClamp;
 use crate::link::Session;
 use crate::mission::Limits;
 
@@ -47,26 +48,42 @@ pub fn parameters(
     limits: &Limits,
     commanded: &Limits,
 ) -> Vec<(&'static str, Setting)> {
-    let max_speed_mps =
-        (limits.max_speed_mps / (1.0 + own_speed_overshoot(flavour))).max(commanded.max_speed_mps);
     flavour.limit_parameters(OwnLimits {
-        max_speed_mps: max_speed_mps as f32,
+        max_speed_mps: own_max_speed_mps(flavour, limits, commanded) as f32,
         commanded_speed_mps: commanded.max_speed_mps as f32,
         max_accel_mps2: limits.max_accel_mps2 as f32,
         max_jerk_mps3: limits.max_jerk_mps3 as f32,
     })
 }
 
-/// Sets and reads back every parameter of [`parameters`], and returns the
-/// acceleration lead the vehicle needs (see [`accel_lead_s`]); `Err` names the
-/// drone and the parameter the vehicle would not take or tell.
+/// The speed maximum [`parameters`] gives the autopilot, on every axis, m/s: the
+/// limit over (1 + [`own_speed_overshoot`]), never below the commanded speed.
+pub fn own_max_speed_mps(flavour: &dyn Flavour, limits: &Limits, commanded: &Limits) -> f64 {
+    (limits.max_speed_mps / (1.0 + own_speed_overshoot(flavour))).max(commanded.max_speed_mps)
+}
+
+/// How the vehicle's own controller takes our feed-forward, learnt in pre-flight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OwnResponse {
+    /// How far ahead its acceleration feed-forward is sent, seconds (see
+    /// [`accel_lead_s`]).
+    pub accel_lead_s: f64,
+    /// Its velocity clamp, when its controller adds the acceleration feed-forward
+    /// after it (see [`crate::fly::feedforward`]).
+    pub speed_clamp: Option<SpeedClamp>,
+}
+
+/// Sets and reads back every parameter of [`parameters`], and returns how the
+/// vehicle takes our feed-forward: the acceleration lead it needs and the
+/// velocity clamp to taper it by; `Err` names the drone and the parameter the
+/// vehicle would not take or tell.
 pub async fn apply(
     id: &str,
     session: &Session,
     flavour: &dyn Flavour,
     limits: &Limits,
     commanded: &Limits,
-) -> Result<f64, String> {
+) -> Result<OwnResponse, String> {
     let refused = |e| format!("{id}: cannot set its speed limits: {e}");
     for (name, setting) in parameters(flavour, limits, commanded) {
         let value = match setting {
@@ -81,9 +98,32 @@ pub async fn apply(
         };
         session.set_param(name, value).await.map_err(refused)?;
     }
-    accel_lead_s(session, flavour)
+    let accel_lead_s = accel_lead_s(session, flavour)
         .await
-        .map_err(|e| format!("{id}: cannot read its attitude response: {e}"))
+        .map_err(|e| format!("{id}: cannot read its attitude response: {e}"))?;
+    let speed_clamp = match flavour.position_gain_parameters() {
+        Some([horizontal, vertical]) => {
+            let gain = |name| async move {
+                session
+                    .read_param(name)
+                    .await
+                    .map(f64::from)
+                    .map_err(|e| format!("{id}: cannot read its position gain {name}: {e}"))
+            };
+            let max_mps = own_max_speed_mps(flavour, limits, commanded);
+            Some(SpeedClamp {
+                max_horizontal_mps: max_mps,
+                max_vertical_mps: max_mps,
+                horizontal_gain_per_s: gain(horizontal).await?,
+                vertical_gain_per_s: gain(vertical).await?,
+            })
+        }
+        None => None,
+    };
+    Ok(OwnResponse {
+        accel_lead_s,
+        speed_clamp,
+    })
 }
 
 /// How far ahead of the trajectory the acceleration feed-forward is sent, seconds.

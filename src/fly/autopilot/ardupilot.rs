@@ -122,6 +122,12 @@ impl Flavour for ArduCopter {
     fn accel_lead_parameter(&self) -> Option<&'static str> {
         Some("ATC_INPUT_TC")
     }
+
+    /// ArduCopter shapes its own target within `WPNAV_*` and `PSC_JERK_*`: the
+    /// feed-forward cannot push it past them.
+    fn position_gain_parameters(&self) -> Option<[&'static str; 2]> {
+        None
+    }
 }
 
 /// Where a Copter takeoff is.

@@ -59,6 +59,13 @@ pub trait Flavour: Sync {
     /// [`crate::fly::vehicle_limits::accel_lead_s`]); `None` for no lead.
     fn accel_lead_parameter(&self) -> Option<&'static str>;
 
+    /// The parameters holding the horizontal and vertical position gains (1/s) of
+    /// a controller that clamps its velocity setpoint at the vehicle's own maximum
+    /// *before* adding the acceleration feed-forward, which must then be tapered
+    /// (see [`crate::fly::feedforward`]); `None` when the autopilot keeps the
+    /// feed-forward within its own limits itself.
+    fn position_gain_parameters(&self) -> Option<[&'static str; 2]>;
+
     /// Whether `custom_mode` is one the autopilot enters by itself to bring a
     /// vehicle home or down (land, return): a failsafe we never fight.
     fn is_failsafe_mode(&self, custom_mode: u32) -> bool {

@@ -130,6 +130,13 @@ impl Flavour for Px4 {
     fn accel_lead_parameter(&self) -> Option<&'static str> {
         None
     }
+
+    /// `MPC_XY_P` and `MPC_Z_P` (0.95 and 1.0 by default): `PositionControl`
+    /// clamps position error × gain + velocity feed-forward at `MPC_XY_VEL_MAX`
+    /// (`MPC_Z_VEL_MAX_UP`/`_DN`), then adds the acceleration feed-forward.
+    fn position_gain_parameters(&self) -> Option<[&'static str; 2]> {
+        Some(["MPC_XY_P", "MPC_Z_P"])
+    }
 }
 
 /// Where a PX4 takeoff is.

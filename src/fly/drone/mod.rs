@@ -32,6 +32,7 @@ mod vehicle_io;
 
 use super::autopilot::Flavour;
 use super::command::{CommandSender, Request};
+use super::feedforward::SpeedClamp;
 use super::follower::{Follower, Setpoint};
 use super::gate::Progress;
 use super::lateness::EventLateness;
@@ -72,6 +73,9 @@ pub struct Vehicle {
     pub flavour: &'static dyn Flavour,
     /// Its local frame, as pre-flight placed it.
     pub placed: Placed,
+    /// Its controller's velocity clamp, which the acceleration feed-forward is
+    /// tapered by (see [`crate::fly::feedforward`]).
+    pub speed_clamp: Option<SpeedClamp>,
 }
 
 /// Everything the loop keeps per drone.
@@ -83,6 +87,8 @@ pub struct DroneRun {
     flavour: &'static dyn Flavour,
     /// Its `mission_from_local` transform: every position in and out goes through it.
     placed: Placed,
+    /// See [`Vehicle::speed_clamp`].
+    speed_clamp: Option<SpeedClamp>,
     route: Route,
     follower: Follower,
     progress: Progress,
@@ -124,6 +130,7 @@ impl DroneRun {
             session,
             flavour,
             placed,
+            speed_clamp,
         } = vehicle;
         let phase = Phase::TakingOff(flavour.takeoff());
         Self {
@@ -132,6 +139,7 @@ impl DroneRun {
             session,
             flavour,
             placed,
+            speed_clamp,
             route,
             follower,
             progress: Progress::default(),

@@ -4,6 +4,7 @@
 
 use super::DroneRun;
 use crate::fly::command::{Command, CommandError, Request};
+use crate::fly::feedforward;
 use crate::fly::phase::Phase;
 use crate::link::frames;
 
@@ -57,6 +58,11 @@ impl DroneRun {
             return;
         }
         if let Some(s) = self.last_setpoint {
+            let accel_mps2 = feedforward::acceleration_to_send(
+                &s,
+                self.telemetry.position_m,
+                self.speed_clamp.as_ref(),
+            );
             // A failed send is one missed setpoint; the vehicle's own timeout and our
             // link-loss detection deal with a link that stays down.
             let _ = self
@@ -64,7 +70,7 @@ impl DroneRun {
                 .send_setpoint(
                     self.placed.frame.local_from_mission(s.position_m),
                     frames::ned_f32_from_enu(s.velocity_mps),
-                    frames::ned_f32_from_enu(s.acceleration_mps2),
+                    frames::ned_f32_from_enu(accel_mps2),
                 )
                 .await;
         }
