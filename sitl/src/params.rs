@@ -117,6 +117,6 @@ mod tests {
         assert!(params.set("MIS_TAKEOFF_ALT", f32::NAN).is_none());
         assert!(params.read("", 0).is_some());
         assert!(params.read("", 100).is_none());
-        assert_eq!(params.list().len(), 15);
+        assert_eq!(params.list().len(), 17);
     }
 }
