@@ -34,10 +34,9 @@ pub const TAPER_MPS: f64 = 0.1;
 /// adding the acceleration feed-forward.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpeedClamp {
-    /// Its own horizontal speed maximum, m/s.
-    pub max_horizontal_mps: f64,
-    /// Its own vertical speed maximum, up and down, m/s.
-    pub max_vertical_mps: f64,
+    /// Its own speed maximum, horizontally and up and down (pre-flight sets one
+    /// for every axis: `vehicle_limits::own_max_speed_mps`), m/s.
+    pub max_speed_mps: f64,
     /// Horizontal position gain, 1/s (PX4 `MPC_XY_P`).
     pub horizontal_gain_per_s: f64,
     /// Vertical position gain, 1/s (PX4 `MPC_Z_P`).
@@ -47,7 +46,6 @@ pub struct SpeedClamp {
 /// The acceleration feed-forward to send with `setpoint`, ENU m/s², for a vehicle
 /// at `vehicle_m` (mission ENU; `None` when unseen) whose autopilot clamps as
 /// `clamp` says (`None`: the setpoint's own, unchanged).
-///
 pub fn acceleration_to_send(
     setpoint: &Setpoint,
     vehicle_m: Option<[f64; 3]>,
@@ -61,9 +59,9 @@ pub fn acceleration_to_send(
     let v = setpoint.velocity_mps;
     let k_xy = clamp.horizontal_gain_per_s;
     let asked_xy = [k_xy * (sp[0] - p[0]) + v[0], k_xy * (sp[1] - p[1]) + v[1]];
-    let [ax, ay] = taper_along([a[0], a[1]], asked_xy, clamp.max_horizontal_mps);
+    let [ax, ay] = taper_along([a[0], a[1]], asked_xy, clamp.max_speed_mps);
     let asked_z = clamp.vertical_gain_per_s * (sp[2] - p[2]) + v[2];
-    let [az] = taper_along([a[2]], [asked_z], clamp.max_vertical_mps);
+    let [az] = taper_along([a[2]], [asked_z], clamp.max_speed_mps);
     [ax, ay, az]
 }
 
@@ -94,8 +92,7 @@ mod tests {
     use super::*;
 
     const CLAMP: SpeedClamp = SpeedClamp {
-        max_horizontal_mps: 0.625,
-        max_vertical_mps: 0.5,
+        max_speed_mps: 0.625,
         horizontal_gain_per_s: 0.95,
         vertical_gain_per_s: 1.0,
     };
@@ -169,9 +166,9 @@ mod tests {
 
     #[test]
     fn vertical_feedforward_is_clamped_on_its_own_maximum() {
-        // Climbing at 0.4 m/s, 0.2 m low: 0.6 m/s asked up, over 0.5.
+        // Climbing at 0.4 m/s, 0.3 m low: 0.7 m/s asked up, over 0.625.
         let climb = setpoint([0.0, 0.0, 0.4], [0.3, 0.0, 0.8]);
-        let a = acceleration_to_send(&climb, Some([0.0, 0.0, 4.8]), Some(&CLAMP));
+        let a = acceleration_to_send(&climb, Some([0.0, 0.0, 4.7]), Some(&CLAMP));
         assert!(close(a, [0.3, 0.0, 0.0]), "{a:?}");
     }
 }

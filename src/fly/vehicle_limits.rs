@@ -110,10 +110,8 @@ pub async fn apply(
                     .map(f64::from)
                     .map_err(|e| format!("{id}: cannot read its position gain {name}: {e}"))
             };
-            let max_mps = own_max_speed_mps(flavour, limits, commanded);
             Some(SpeedClamp {
-                max_horizontal_mps: max_mps,
-                max_vertical_mps: max_mps,
+                max_speed_mps: own_max_speed_mps(flavour, limits, commanded),
                 horizontal_gain_per_s: gain(horizontal).await?,
                 vertical_gain_per_s: gain(vertical).await?,
             })

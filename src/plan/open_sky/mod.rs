@@ -58,7 +58,7 @@ pub(super) struct StraightLines {
 /// number of repairs (a drone flying another staircase of its line), or `until`
 /// passes first. `None` too, before any staircase is flown, when `wanted` says
 /// lines of that makespan (the longest assigned line) against that lower bound
-/// would not be used: staircases and their checks are most of the cost.
+/// would not be used, so that their staircases and conflict checks are spared.
 pub(super) fn straight_lines(
     grid: &VoxelGrid,
     space: &Space,
