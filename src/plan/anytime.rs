@@ -61,28 +61,33 @@ pub(super) fn plan_anytime(
     let first = if options.first_plan {
         // Where the exact search is quick, as on most instances of a few hundred
         // drones, a first plan would only cost time: it gets a short head start.
-        let head_start_at = started + head_start(space, cells, initial_lower_bound, options);
-        let head_options = PlanOptions {
-            deadline: head_start_at.saturating_duration_since(started),
-            ..options.clone()
-        };
-        let mut search = Search::new(
-            space,
-            cells,
-            lower_bounds,
-            max_horizon,
-            head_start_at,
-            &head_options,
-        );
-        search.stats = stats;
-        let head_started = Instant::now();
-        let outcome = search.run(progress);
-        head_start_used = head_started.elapsed();
-        stats = search.stats;
-        match outcome {
-            Ok(routings) => return Ok(routed(&routings, stats)),
-            Err(PlanError::Deadline { .. }) => {}
-            Err(proof) => return Err(proof),
+        // A big leg gets none: its search would only start building networks
+        // (seconds at 5,000 drones) before it noticed its time was up.
+        let head = head_start(space, cells, initial_lower_bound, options);
+        if !head.is_zero() {
+            let head_start_at = started + head;
+            let head_options = PlanOptions {
+                deadline: head,
+                ..options.clone()
+            };
+            let mut search = Search::new(
+                space,
+                cells,
+                lower_bounds,
+                max_horizon,
+                head_start_at,
+                &head_options,
+            );
+            search.stats = stats;
+            let head_started = Instant::now();
+            let outcome = search.run(progress);
+            head_start_used = head_started.elapsed();
+            stats = search.stats;
+            match outcome {
+                Ok(routings) => return Ok(routed(&routings, stats)),
+                Err(PlanError::Deadline { .. }) => {}
+                Err(proof) => return Err(proof),
+            }
         }
         let groups = (cells, lower_bounds, assigned);
         first_plan_within(space, groups, (started, options), progress)

@@ -42,6 +42,18 @@ pub(crate) fn first_conflict(
     space: &Space,
     makespan: u32,
 ) -> (Option<Conflict>, usize) {
+    let (found, count) = conflicts(routings, space, makespan, 1);
+    (found.into_iter().next(), count)
+}
+
+/// The first `keep` conflicts between groups, earliest first, and the total
+/// number of them, looking at every path padded with waits to `makespan`.
+pub(crate) fn conflicts(
+    routings: &[&[Vec<u32>]],
+    space: &Space,
+    makespan: u32,
+    keep: usize,
+) -> (Vec<Conflict>, usize) {
     let cells = space.len();
     // Drones flattened across groups: (group, path).
     let drones: Vec<(usize, &Vec<u32>)> = routings
@@ -54,7 +66,12 @@ pub(crate) fn first_conflict(
         p[t.min(p.len() - 1)]
     };
     let mut occupant = vec![u32::MAX; cells];
-    let mut first = None;
+    let mut first = Vec::new();
+    let mut note = |conflict: Conflict| {
+        if first.len() < keep {
+            first.push(conflict);
+        }
+    };
     let mut count = 0;
     for t in 0..=makespan as usize {
         for d in 0..drones.len() {
@@ -64,7 +81,7 @@ pub(crate) fn first_conflict(
                 occupant[c] = d as u32;
             } else if drones[other as usize].0 != drones[d].0 {
                 count += 1;
-                first.get_or_insert(Conflict::Vertex {
+                note(Conflict::Vertex {
                     groups: [drones[other as usize].0, drones[d].0],
                     cell: c as u32,
                     step: t as u32,
@@ -74,10 +91,10 @@ pub(crate) fn first_conflict(
         if space.has_stacking() {
             let found = stacked_at(space, &at, drones.len(), t, &occupant);
             count += found.len();
-            if let Some((a, b)) = found.first() {
-                first.get_or_insert(Conflict::Stacked {
-                    groups: [drones[*a].0, drones[*b].0],
-                    cells: [at(*a, t), at(*b, t)],
+            for (a, b) in found {
+                note(Conflict::Stacked {
+                    groups: [drones[a].0, drones[b].0],
+                    cells: [at(a, t), at(b, t)],
                     step: t as u32,
                 });
             }
@@ -85,7 +102,7 @@ pub(crate) fn first_conflict(
                 && let Some(cycle) = stacked_cycle_at(space, &at, drones.len(), t, &occupant)
             {
                 count += 1;
-                first.get_or_insert(Conflict::Rotation {
+                note(Conflict::Rotation {
                     moves: cycle
                         .iter()
                         .map(|&d| (drones[d].0, at(d, t), at(d, t + 1)))
@@ -104,7 +121,7 @@ pub(crate) fn first_conflict(
                     continue; // inside one group: the low level removes those
                 }
                 count += 1;
-                first.get_or_insert(match moves.as_slice() {
+                note(match moves.as_slice() {
                     &[(a, from, to), (b, ..)] => Conflict::Edge {
                         groups: [a, b],
                         from,

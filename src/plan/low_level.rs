@@ -34,6 +34,9 @@ pub(crate) fn min_horizon(
     (deadline_at, on_layer): (Instant, &mut dyn FnMut(u32)),
     work: &mut LowLevelWork,
 ) -> Option<u32> {
+    if Instant::now() >= deadline_at {
+        return None;
+    }
     let from_constraints = constraints
         .latest_goal_step(&group.is_goal)
         .map_or(0, |t| t + 1);
@@ -55,6 +58,9 @@ pub(crate) fn route(
     (deadline_at, on_routed): (Instant, &mut dyn FnMut(usize)),
     work: &mut LowLevelWork,
 ) -> Option<Vec<Vec<u32>>> {
+    if Instant::now() >= deadline_at {
+        return None;
+    }
     let mut network = Network::new(space, group, constraints, horizon);
     // One meeting with another group must outweigh any number of extra steps.
     let steps_at_most = group.starts.len() as i64 * (i64::from(horizon) + 1);

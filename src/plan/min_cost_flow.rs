@@ -53,9 +53,13 @@ fn goal_potentials(network: &Network) -> Vec<i64> {
     potential
 }
 
+/// Nodes settled between two looks at the clock in one search (a few
+/// milliseconds of work).
+const DEADLINE_CHECK_EVERY: u32 = 1 << 16;
+
 /// Routes every drone of the group at the network's horizon at least total cost.
 /// Returns the number of augmenting paths, or `None` if the horizon is too short or
-/// `deadline_at` passed (checked after each phase); `on_routed` hears the number
+/// `deadline_at` passed (checked within each phase); `on_routed` hears the number
 /// of drones routed after each phase.
 pub(crate) fn route_at_least_cost(
     network: &mut Network,
@@ -87,12 +91,19 @@ pub(crate) fn route_at_least_cost(
             distance[s] = -potential[s];
             heap.push(Reverse((distance[s], s)));
         }
+        let mut popped: u32 = 0;
         while let Some(Reverse((d, u))) = heap.pop() {
             if d > distance[u] {
                 continue;
             }
             if u == sink {
                 break;
+            }
+            // One search of a show-sized network takes seconds: the deadline is
+            // looked at inside it too.
+            popped = popped.wrapping_add(1);
+            if popped.is_multiple_of(DEADLINE_CHECK_EVERY) && Instant::now() >= deadline_at {
+                return None;
             }
             let count = network.residual_edges(u, &mut edges);
             for &(v, cost) in &edges[..count] {

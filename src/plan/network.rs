@@ -41,6 +41,27 @@ impl GroupCells {
             is_goal,
         }
     }
+
+    /// Moves from the group's farthest drone to its nearest goal and, where the
+    /// group has as many goals as drones, from its farthest goal to its nearest
+    /// drone (breadth-first distances, other drones ignored): no plan takes
+    /// fewer steps. `None` when some drone reaches no goal (or, goals and drones
+    /// as many, some goal no drone).
+    pub(crate) fn nearest_bound(&self) -> Option<u32> {
+        let drones = self.starts.iter().map(|&s| self.to_goal[s as usize]).max();
+        let drones = drones.unwrap_or(0);
+        if drones == NONE {
+            return None;
+        }
+        if self.goals.len() != self.starts.len() {
+            return Some(drones);
+        }
+        let goals = self.goals.iter().map(|&g| self.from_start[g as usize]);
+        match goals.max().unwrap_or(0) {
+            NONE => None,
+            goals => Some(drones.max(goals)),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -5,9 +5,9 @@
 use super::anytime::{Effort, is_big_leg, plan_anytime};
 use super::discrete_plan::DiscretePlan;
 use super::error::PlanError;
-use super::lower_bound::bottleneck_assignment_in;
+use super::lower_bound::{Bottleneck, bottleneck_assignment_in};
 use super::network::GroupCells;
-use super::open_sky::straight_lines;
+use super::open_sky::{pairwise_stable, straight_lines};
 use super::options::PlanOptions;
 use super::space::{NONE, Space};
 use super::stats::{PlanPhase, PlanStats, Progress, Throttle};
@@ -199,40 +199,19 @@ pub(super) fn solve_in_space(
         return Ok(answer);
     }
     let mut cells = Vec::with_capacity(groups.len());
-    let mut lower_bounds = Vec::with_capacity(groups.len());
-    let mut assigned = Vec::with_capacity(groups.len());
-    let mut throttle = Throttle::new();
     for (gi, g) in groups.iter().enumerate() {
-        if throttle.due() {
-            progress(&Progress {
-                leg: String::new(),
-                phase: PlanPhase::LowerBounds {
-                    groups_done: gi,
-                    groups: groups.len(),
-                },
-                ct_nodes_expanded: 0,
-                open_nodes: 0,
-                best_lower_bound_steps: lower_bounds.iter().copied().max().unwrap_or(0),
-                incumbent_steps: None,
-                elapsed: started.elapsed(),
-            });
-        }
         let starts: Option<Vec<u32>> = g.starts.iter().map(|&v| compact(v)).collect();
-        let free_goals = &free_goals[gi];
-        let goals: Option<Vec<u32>> = free_goals.iter().map(|&v| compact(v)).collect();
-        let unreachable = || PlanError::Unreachable(format!("#{gi}"));
+        let goals: Option<Vec<u32>> = free_goals[gi].iter().map(|&v| compact(v)).collect();
         let (Some(starts), Some(goals)) = (starts, goals) else {
-            return Err(unreachable());
+            return Err(PlanError::Unreachable(format!("#{gi}")));
         };
         if starts.contains(&NONE) || goals.contains(&NONE) {
-            return Err(unreachable());
+            return Err(PlanError::Unreachable(format!("#{gi}")));
         }
-        let (lb, first_goals) =
-            bottleneck_assignment_in(space, &starts, &goals).ok_or_else(unreachable)?;
-        lower_bounds.push(lb);
-        assigned.push(first_goals);
         cells.push(GroupCells::new(space, starts, &goals));
     }
+    let (lower_bounds, assigned) =
+        bounds_and_assignments(grid, space, &cells, (options, effort, started), progress)?;
     let legs = (options, legs_after, effort);
     let groups = (&cells[..], &lower_bounds[..], &assigned[..]);
     let routed = plan_anytime(space, groups, legs, started, progress)?;
@@ -245,6 +224,83 @@ pub(super) fn solve_in_space(
         routed.stats,
         started,
     ))
+}
+
+/// Each group's lower bound and a distinct goal per drone for PIBT to start
+/// from: the bottleneck assignment, or where a big leg's first pass runs out of
+/// the time it gives that, the nearest-goal bound and an assignment by squared
+/// distances. Fails naming the group (`#i`) that cannot reach its goals.
+fn bounds_and_assignments(
+    grid: &VoxelGrid,
+    space: &Space,
+    cells: &[GroupCells],
+    (options, effort, started): (&PlanOptions, Effort, Instant),
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<(Vec<u32>, Vec<Vec<u32>>), PlanError> {
+    // The bottleneck assignment is the tighter bound and PIBT's best start, but
+    // on a big leg (see `is_big_leg`) it can take seconds (10 s for 5,000 drones
+    // landing 41 moves from their pads). A big leg's first pass gives it a third
+    // of the leg's time; groups it does not reach by then start from the
+    // nearest-goal bound and an assignment by squared distances (milliseconds
+    // each): a first answer with a wider gap rather than none.
+    let nearest: Vec<Option<u32>> = cells.iter().map(GroupCells::nearest_bound).collect();
+    let drones = cells.iter().map(|g| g.starts.len()).sum();
+    let leg_nearest = nearest.iter().flatten().copied().max().unwrap_or(0);
+    let hurried =
+        options.first_plan && effort == Effort::FirstPlan && is_big_leg(drones, space, leg_nearest);
+    let bounds_until = hurried.then(|| started + options.deadline / 3);
+    let mut lower_bounds = Vec::with_capacity(cells.len());
+    let mut assigned = Vec::with_capacity(cells.len());
+    let mut throttle = Throttle::new();
+    for (gi, group) in cells.iter().enumerate() {
+        if throttle.due() {
+            progress(&Progress {
+                leg: String::new(),
+                phase: PlanPhase::LowerBounds {
+                    groups_done: gi,
+                    groups: cells.len(),
+                },
+                ct_nodes_expanded: 0,
+                open_nodes: 0,
+                best_lower_bound_steps: lower_bounds.iter().copied().max().unwrap_or(0),
+                incumbent_steps: None,
+                elapsed: started.elapsed(),
+            });
+        }
+        let unreachable = || PlanError::Unreachable(format!("#{gi}"));
+        let Some(nearest) = nearest[gi] else {
+            return Err(unreachable());
+        };
+        let (lb, first_goals) =
+            match bottleneck_assignment_in(space, &group.starts, &group.goals, bounds_until) {
+                Bottleneck::Found(lb, assigned) => (lb, assigned),
+                Bottleneck::Unmatchable => return Err(unreachable()),
+                Bottleneck::OutOfTime => {
+                    let until = started + options.deadline;
+                    let by_squares = assignment_by_squares(grid, space, group, until);
+                    (nearest, by_squares.ok_or_else(unreachable)?)
+                }
+            };
+        lower_bounds.push(lb);
+        assigned.push(first_goals);
+    }
+    Ok((lower_bounds, assigned))
+}
+
+/// Each drone of `group` a distinct goal such that no exchange of two drones'
+/// goals lowers their summed squared distances (`open_sky`'s assignment): a
+/// start for PIBT found in milliseconds; `None` past `until`.
+fn assignment_by_squares(
+    grid: &VoxelGrid,
+    space: &Space,
+    group: &GroupCells,
+    until: Instant,
+) -> Option<Vec<u32>> {
+    let point = |&c: &u32| -> [i32; 3] { grid.voxel(space.world_cell(c)).into() };
+    let starts: Vec<[i32; 3]> = group.starts.iter().map(point).collect();
+    let goals: Vec<[i32; 3]> = group.goals.iter().map(point).collect();
+    let goal_of = pairwise_stable(&starts, &goals, until)?;
+    Some(goal_of.into_iter().map(|g| group.goals[g]).collect())
 }
 
 /// The leg on straight lines where it is open sky (see `open_sky`), tried within

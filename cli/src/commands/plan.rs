@@ -91,8 +91,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     if let Some(path) = &args.output {
-        let json = serde_json::to_string(&compiled)?;
-        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+        // Streamed: a 5,000-drone plan is about 900 MB of JSON, which need not
+        // sit in memory as one string first.
+        let cannot = || format!("cannot write {}", path.display());
+        let file = std::fs::File::create(path).with_context(cannot)?;
+        let mut out = std::io::BufWriter::new(file);
+        serde_json::to_writer(&mut out, &compiled).with_context(cannot)?;
+        std::io::Write::flush(&mut out).with_context(cannot)?;
         println!("  wrote           {}", path.display());
     } else {
         println!(

@@ -19,7 +19,7 @@ pub(super) type Point = [i32; 3];
 /// For each drone at `starts` (in order) the index of its goal in `goals`, all
 /// distinct, stable under exchanges (see the module docs); `None` if there are
 /// fewer goals than drones or `until` passes first.
-pub(super) fn pairwise_stable(
+pub(in crate::plan) fn pairwise_stable(
     starts: &[Point],
     goals: &[Point],
     until: Instant,

@@ -23,18 +23,26 @@
 //! left means no open-sky plan. The validator and the trajectory checker then
 //! prove the plan as any other.
 //!
+//! Pads beside the world have no airspace above them: a drone landing there
+//! flies its line to the pad layer under the world's edge and hops along it to
+//! its pad (`pad_hop`; taking off, the other way round), in as many moves as the
+//! line straight to the pad would take.
+//!
 //! The makespan is the longest staircase, which may exceed the least possible
 //! makespan (the assignment minimises squared distances, not the longest): the
 //! caller states the gap to its lower bound, and may search for better.
 
 mod assignment;
+mod pad_hop;
 mod staircase;
 
-use super::conflict::{Conflict, first_conflict};
+use super::conflict::{Conflict, conflicts};
 use super::first_plan::regroup;
 use super::space::{NONE, Space};
 use crate::world::{Voxel, VoxelGrid};
-use assignment::{Point, pairwise_stable};
+use assignment::Point;
+pub(super) use assignment::pairwise_stable;
+use pad_hop::Way;
 use staircase::{VARIANTS, staircase};
 use std::time::Instant;
 
@@ -53,7 +61,8 @@ pub(super) struct StraightLines {
 }
 
 /// The leg from `groups` (per group, its drones' starts and its free goals) on
-/// straight lines, or `None` when it is not open sky: a line leaves the free
+/// straight lines (with a hop along the pad layer to or from a pad beside the
+/// world, see `pad_hop`), or `None` when it is not open sky: a line leaves the free
 /// cells of `space` whichever way it is flown, lines still meet after a bounded
 /// number of repairs (a drone flying another staircase of its line), or `until`
 /// passes first. `None` too, before any staircase is flown, when `wanted` says
@@ -66,19 +75,18 @@ pub(super) fn straight_lines(
     until: Instant,
     wanted: impl Fn(u32, u32) -> bool,
 ) -> Option<StraightLines> {
-    // Every drone's line, flattened across groups in order.
-    let mut lines: Vec<(Voxel, Voxel)> = Vec::new();
+    // Every drone's way, flattened across groups in order.
+    let mut ways: Vec<Way> = Vec::new();
     for &(starts, goals) in groups {
         let points =
             |voxels: &[Voxel]| -> Vec<Point> { voxels.iter().map(|&v| v.into()).collect() };
-        let goal_of = pairwise_stable(&points(starts), &points(goals), until)?;
-        lines.extend(starts.iter().zip(goal_of).map(|(&s, g)| (s, goals[g])));
+        let (starts, goals) = (points(starts), points(goals));
+        let goal_of = pairwise_stable(&starts, &goals, until)?;
+        for (&s, g) in starts.iter().zip(goal_of) {
+            ways.push(Way::between(grid, s, goals[g])?);
+        }
     }
-    let makespan = lines
-        .iter()
-        .map(|&(a, b)| a.manhattan(b))
-        .max()
-        .unwrap_or(0);
+    let makespan = ways.iter().map(Way::moves).max().unwrap_or(0);
     let lower_bound = groups
         .iter()
         .map(|(starts, goals)| nearest_bound(starts, goals))
@@ -91,63 +99,86 @@ pub(super) fn straight_lines(
         let c = space.compact(grid.cell(p.into())?);
         (c != NONE).then_some(c)
     };
-    let fly = |(from, to): (Voxel, Voxel), variant: u8| -> Option<Vec<u32>> {
-        staircase(from.into(), to.into(), makespan, variant)
-            .into_iter()
-            .map(compact)
-            .collect()
+    let fly = |way: &Way, variant: u8| -> Option<Vec<u32>> {
+        let ((from, to), hops) = (way.line, way.out.len() + way.into.len());
+        let steps = makespan - hops as u32;
+        let line = staircase(from, to, steps, variant);
+        let cells = way
+            .out
+            .iter()
+            .copied()
+            .chain(line)
+            .chain(way.into.iter().copied());
+        cells.map(compact).collect()
     };
-    let mut variant = vec![0u8; lines.len()];
-    let mut paths = Vec::with_capacity(lines.len());
-    for &line in &lines {
-        paths.push(fly(line, 0)?);
+    let mut variant = vec![0u8; ways.len()];
+    let mut paths = Vec::with_capacity(ways.len());
+    for way in &ways {
+        paths.push(fly(way, 0)?);
     }
     // Where two staircases meet, one of the two drones flies another staircase
-    // of its line. Each repair checks the whole leg again, so there are few.
-    for _ in 0..=REPAIRS {
+    // of its line: every meeting found in a round at once, as each round checks
+    // the whole leg again.
+    for _ in 0..=REPAIR_ROUNDS {
         if Instant::now() >= until {
             return None;
         }
         // Each drone on its own, so that drones of one group are checked too.
         let per_drone: Vec<&[Vec<u32>]> = paths.iter().map(std::slice::from_ref).collect();
-        let Some(conflict) = first_conflict(&per_drone, space, makespan).0 else {
+        let (meetings, _) = conflicts(&per_drone, space, makespan, ways.len());
+        if meetings.is_empty() {
             return Some(StraightLines {
                 paths: regroup(groups.iter().map(|(starts, _)| starts.len()), paths),
                 makespan,
                 lower_bound,
             });
-        };
-        let [a, b] = drones_of(&conflict)?;
-        let d = [b, a].into_iter().find(|&d| variant[d] + 1 < VARIANTS)?;
-        // A variant that leaves the free space is skipped.
-        loop {
-            variant[d] += 1;
-            if let Some(path) = fly(lines[d], variant[d]) {
-                paths[d] = path;
-                break;
+        }
+        let mut moved = vec![false; ways.len()];
+        for meeting in &meetings {
+            let ([a, b], step) = drones_of(meeting)?;
+            if moved[a] || moved[b] {
+                continue; // one of them flies otherwise already
             }
-            if variant[d] + 1 >= VARIANTS {
-                return None;
+            // A drone on a hop at that step flies it whatever its staircase, so
+            // the other one moves where it can.
+            let can = |d: usize| variant[d] + 1 < VARIANTS;
+            let on_line = |d: usize| ways[d].on_line_at(step, makespan);
+            let d = [b, a]
+                .into_iter()
+                .filter(|&d| can(d))
+                .find(|&d| on_line(d))
+                .or_else(|| [b, a].into_iter().find(|&d| can(d)))?;
+            // A variant that leaves the free space is skipped.
+            loop {
+                variant[d] += 1;
+                if let Some(path) = fly(&ways[d], variant[d]) {
+                    paths[d] = path;
+                    break;
+                }
+                if variant[d] + 1 >= VARIANTS {
+                    return None;
+                }
             }
+            moved[d] = true;
         }
     }
     None
 }
 
-/// Meetings repaired before a leg is given up as not open sky: each costs a
-/// check of the whole leg (about 50 ms at 5,000 drones over 66 steps). Carpets
-/// two voxels apart rising into a ball meet about 200 times at 5,000 drones
-/// and, repaired one by one, still about 100 times after 400 repairs.
-const REPAIRS: usize = 64;
+/// Rounds of repairs before a leg is given up as not open sky: each costs a
+/// check of the whole leg (about 50 ms at 5,000 drones over 66 steps) and
+/// repairs every meeting it finds. Carpets two voxels apart rising into a ball
+/// meet about 200 times at 5,000 drones.
+const REPAIR_ROUNDS: usize = 24;
 
-/// Two drones (as flattened indices) of a conflict between drones.
-fn drones_of(conflict: &Conflict) -> Option<[usize; 2]> {
+/// Two drones (as flattened indices) of a conflict between drones, and its step.
+fn drones_of(conflict: &Conflict) -> Option<([usize; 2], u32)> {
     match conflict {
-        Conflict::Vertex { groups, .. }
-        | Conflict::Edge { groups, .. }
-        | Conflict::Stacked { groups, .. } => Some(*groups),
-        Conflict::Rotation { moves, .. } => match moves.as_slice() {
-            [(a, ..), (b, ..), ..] => Some([*a, *b]),
+        Conflict::Vertex { groups, step, .. }
+        | Conflict::Edge { groups, step, .. }
+        | Conflict::Stacked { groups, step, .. } => Some((*groups, *step)),
+        Conflict::Rotation { moves, step } => match moves.as_slice() {
+            [(a, ..), (b, ..), ..] => Some(([*a, *b], *step)),
             _ => None,
         },
     }
@@ -215,6 +246,33 @@ mod tests {
         distinct.sort_unstable();
         distinct.dedup();
         assert_eq!(distinct.len(), ends.len(), "two drones on one goal");
+    }
+
+    #[test]
+    fn drones_land_on_pads_beside_the_world_along_the_pad_layer() {
+        // A 6×6×4 world over a pad layer reaching two cells beyond its west
+        // edge; four drones land from a square in its middle on a row of pads
+        // under its west edge and beside it.
+        let world = VoxelGrid::new([6, 6, 4], 1.0, [0.0; 3]);
+        let grid = VoxelGrid::airspace(&world, -0.5, -2..=5, 0..=5);
+        let space = Space::new(&grid, 0);
+        let starts = voxels(&[[2, 2, 3], [4, 2, 3], [2, 4, 3], [4, 4, 3]]);
+        let pads = voxels(&[[-2, 1, -1], [-2, 4, -1], [0, 1, -1], [0, 4, -1]]);
+        let lines = straight_lines(&grid, &space, &[(&starts, &pads)], far(), any()).unwrap();
+        let mut ends = Vec::new();
+        for path in &lines.paths[0] {
+            assert_eq!(path.len(), lines.makespan as usize + 1);
+            for pair in path.windows(2) {
+                assert!(space.moves(pair[0]).contains(&pair[1]), "a jump");
+            }
+            ends.push(grid.voxel(space.world_cell(path[path.len() - 1])));
+        }
+        ends.sort_by_key(|v| (v.x, v.y));
+        assert_eq!(ends, pads, "every pad taken once");
+        // (4, 2, 3) is 4 + 1 + 4 moves from its nearest pad (0, 1, -1); the hops
+        // cost no more than that: the lines meet the bound.
+        assert_eq!(lines.lower_bound, 9);
+        assert_eq!(lines.makespan, 9);
     }
 
     #[test]
