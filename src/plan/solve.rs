@@ -277,8 +277,18 @@ fn bounds_and_assignments(
                 Bottleneck::Unmatchable => return Err(unreachable()),
                 Bottleneck::OutOfTime => {
                     let until = started + options.deadline;
-                    let by_squares = assignment_by_squares(grid, space, group, until);
-                    (nearest, by_squares.ok_or_else(unreachable)?)
+                    match assignment_by_squares(grid, space, group, until) {
+                        Some(by_squares) => (nearest, by_squares),
+                        None if Instant::now() >= until => {
+                            let so_far = lower_bounds.iter().copied().max().unwrap_or(0);
+                            return Err(PlanError::Deadline {
+                                deadline: options.deadline,
+                                best_lower_bound_steps: so_far.max(nearest),
+                                ct_nodes: 0,
+                            });
+                        }
+                        None => return Err(unreachable()),
+                    }
                 }
             };
         lower_bounds.push(lb);
