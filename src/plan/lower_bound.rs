@@ -1,10 +1,10 @@
 //! A makespan lower bound that ignores collisions between drones.
 
 use super::matching::{matched, maximum_matching};
+use super::pair_distances::{PairSearch, Reach};
 use super::space::{NONE, Space};
 use crate::mission::Mission;
 use crate::world::{Voxel, VoxelGrid};
-use std::collections::VecDeque;
 use std::time::Instant;
 
 /// The least makespan the first formation (starts to goals) can have, in steps:
@@ -76,7 +76,7 @@ pub(crate) fn bottleneck_assignment(
     let starts: Option<Vec<u32>> = starts.iter().map(|&v| compact(v)).collect();
     let goals: Vec<u32> = goals.iter().filter_map(|&g| compact(g)).collect();
     let Bottleneck::Found(steps, assigned) =
-        bottleneck_assignment_in(&space, &starts?, &goals, None)
+        bottleneck_assignment_in(&space, &starts?, (&goals, &space.distances(&goals)), None)
     else {
         return None;
     };
@@ -101,14 +101,16 @@ pub(crate) enum Bottleneck {
 /// [`bottleneck_assignment`] on the compact free cells of `space`: drones at
 /// `starts`, free `goals`, the assignment in compact cells, searched until
 /// `until` when one is given (at 5,000 drones landing 41 moves from their pads
-/// it takes 10 s). The first plan starts from it.
+/// it takes 10 s). `to_goal` is every cell's move count to its nearest goal
+/// ([`Space::distances`] from `goals`; a group has it already). The first plan
+/// starts from it.
 pub(crate) fn bottleneck_assignment_in(
     space: &Space,
     starts: &[u32],
-    goals: &[u32],
+    (goals, to_goal): (&[u32], &[u32]),
     until: Option<Instant>,
 ) -> Bottleneck {
-    match bottleneck_search(space, starts, goals, until) {
+    match bottleneck_search(space, starts, (goals, to_goal), until) {
         Ok(Some((bound, assigned))) => Bottleneck::Found(bound, assigned),
         Ok(None) => Bottleneck::Unmatchable,
         Err(OutOfTime) => Bottleneck::OutOfTime,
@@ -122,14 +124,13 @@ struct OutOfTime;
 fn bottleneck_search(
     space: &Space,
     starts: &[u32],
-    goals: &[u32],
+    (goals, to_goal): (&[u32], &[u32]),
     until: Option<Instant>,
 ) -> Result<Option<(u32, Vec<u32>)>, OutOfTime> {
     let late = || until.is_some_and(|u| Instant::now() >= u);
     if starts.is_empty() {
         return Ok(None);
     }
-    let to_goal = space.distances(goals);
     let floor = starts
         .iter()
         .map(|&s| to_goal[s as usize])
@@ -141,7 +142,10 @@ fn bottleneck_search(
     for (d, &s) in starts.iter().enumerate() {
         drone_at[s as usize] = d as u32;
     }
-    let mut balls = Balls::new(space.len());
+    // A few drones are found sooner by A* to each than by a ball from each goal
+    // that must reach the farthest of them (see `pair_distances`).
+    let mut pairs = (starts.len() <= PAIRWISE_DRONES).then(|| PairSearch::new(space.len()));
+    let mut balls = Balls::new(if pairs.is_some() { 0 } else { space.len() });
     let mut radius = floor + 2;
     loop {
         // near[goal]: (drone, distance) for every drone within `radius` of it.
@@ -151,7 +155,10 @@ fn bottleneck_search(
             if i % 64 == 0 && late() {
                 return Err(OutOfTime);
             }
-            let (found, truncated) = balls.search(space, g, radius, (&drone_at, starts.len()));
+            let (found, truncated) = match pairs.as_mut() {
+                Some(pairs) => pairs_within(pairs, space, g, starts, radius),
+                None => balls.search(space, g, radius, (&drone_at, starts.len())),
+            };
             cut_short |= truncated;
             near.push(found);
         }
@@ -202,20 +209,50 @@ fn bottleneck_search(
     }
 }
 
+/// Drones per group up to which the bound searches each drone-goal pair by A*
+/// rather than a ball around each goal: at 20 drones a group the balls cover
+/// the world, at 500 in one group a ball finds them all sooner.
+const PAIRWISE_DRONES: usize = 64;
+
+/// [`Balls::search`] by one A* search per drone: the drones (index into
+/// `starts`) within `radius` moves of `goal`, with their distances, and whether
+/// any drone may lie beyond the radius.
+fn pairs_within(
+    pairs: &mut PairSearch,
+    space: &Space,
+    goal: u32,
+    starts: &[u32],
+    radius: u32,
+) -> (Vec<(u32, u32)>, bool) {
+    let mut found = Vec::new();
+    let mut beyond = false;
+    for (d, &s) in starts.iter().enumerate() {
+        match pairs.moves_between(space, goal, s, radius) {
+            Reach::Moves(m) => found.push((d as u32, m)),
+            Reach::Beyond => beyond = true,
+            Reach::Never => {}
+        }
+    }
+    (found, beyond)
+}
+
 /// Breadth-first searches bounded by a radius, sharing scratch space: each visits
-/// only its ball, and clearing costs the ball, not the world.
+/// only its ball, and starting the next costs nothing (cells are marked with the
+/// search's number, not cleared). The queue is walked layer by layer, so a
+/// cell's distance is its layer's and is never stored.
 struct Balls {
-    dist: Vec<u32>,
-    touched: Vec<u32>,
-    queue: VecDeque<u32>,
+    /// Per cell, the number of the last search that reached it.
+    seen: Vec<u32>,
+    search: u32,
+    queue: Vec<u32>,
 }
 
 impl Balls {
     fn new(cells: usize) -> Self {
         Self {
-            dist: vec![NONE; cells],
-            touched: Vec::new(),
-            queue: VecDeque::new(),
+            seen: vec![0; cells],
+            search: 0,
+            queue: Vec::new(),
         }
     }
 
@@ -229,39 +266,45 @@ impl Balls {
         radius: u32,
         (drone_at, drones): (&[u32], usize),
     ) -> (Vec<(u32, u32)>, bool) {
+        self.search = self.search.wrapping_add(1);
+        if self.search == 0 {
+            // After 2³² searches the marks wrap: forget them all once.
+            self.seen.fill(0);
+            self.search = 1;
+        }
+        let mark = self.search;
         let mut found = Vec::new();
-        let mut truncated = false;
-        self.dist[from as usize] = 0;
-        self.touched.push(from);
-        self.queue.push_back(from);
-        while let Some(c) = self.queue.pop_front() {
-            let here = self.dist[c as usize];
-            if drone_at[c as usize] != NONE {
-                found.push((drone_at[c as usize], here));
-                if found.len() == drones {
-                    truncated = false;
-                    break;
-                }
-            }
-            for &n in &space.moves(c)[1..] {
-                if self.dist[n as usize] != NONE {
-                    continue;
-                }
-                if here == radius {
-                    truncated = true;
-                    continue;
-                }
-                self.dist[n as usize] = here + 1;
-                self.touched.push(n);
-                self.queue.push_back(n);
-            }
-        }
-        for &c in &self.touched {
-            self.dist[c as usize] = NONE;
-        }
-        self.touched.clear();
         self.queue.clear();
-        (found, truncated)
+        self.queue.push(from);
+        self.seen[from as usize] = mark;
+        let (mut layer_start, mut distance) = (0, 0);
+        while layer_start < self.queue.len() {
+            let layer_end = self.queue.len();
+            for &c in &self.queue[layer_start..layer_end] {
+                let drone = drone_at[c as usize];
+                if drone != NONE {
+                    found.push((drone, distance));
+                    if found.len() == drones {
+                        return (found, false);
+                    }
+                }
+            }
+            let last = distance == radius;
+            for i in layer_start..layer_end {
+                let c = self.queue[i];
+                for &n in &space.moves(c)[1..] {
+                    if self.seen[n as usize] != mark {
+                        if last {
+                            return (found, true); // a cell beyond the radius
+                        }
+                        self.seen[n as usize] = mark;
+                        self.queue.push(n);
+                    }
+                }
+            }
+            (layer_start, distance) = (layer_end, distance + 1);
+        }
+        (found, false) // the whole piece of the world searched
     }
 }
 
@@ -347,13 +390,14 @@ mod tests {
         let space = Space::new(&world, 0);
         let cell = |x| space.compact(world.cell(Voxel::new(x, 0, 0)).unwrap_or(0));
         let (starts, goals) = ([cell(0), cell(1)], [cell(4), cell(5)]);
+        let goals = (&goals[..], &space.distances(&goals)[..]);
         assert_eq!(
-            bottleneck_assignment_in(&space, &starts, &goals, None),
-            Bottleneck::Found(4, vec![goals[0], goals[1]])
+            bottleneck_assignment_in(&space, &starts, goals, None),
+            Bottleneck::Found(4, vec![goals.0[0], goals.0[1]])
         );
         let now = Some(Instant::now());
         assert_eq!(
-            bottleneck_assignment_in(&space, &starts, &goals, now),
+            bottleneck_assignment_in(&space, &starts, goals, now),
             Bottleneck::OutOfTime
         );
     }

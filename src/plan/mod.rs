@@ -38,6 +38,7 @@ mod min_cost_flow;
 mod network;
 mod open_sky;
 mod options;
+mod pair_distances;
 mod paths;
 mod replan;
 mod rotation;

@@ -271,26 +271,30 @@ fn bounds_and_assignments(
         let Some(nearest) = nearest[gi] else {
             return Err(unreachable());
         };
-        let (lb, first_goals) =
-            match bottleneck_assignment_in(space, &group.starts, &group.goals, bounds_until) {
-                Bottleneck::Found(lb, assigned) => (lb, assigned),
-                Bottleneck::Unmatchable => return Err(unreachable()),
-                Bottleneck::OutOfTime => {
-                    let until = started + options.deadline;
-                    match assignment_by_squares(grid, space, group, until) {
-                        Some(by_squares) => (nearest, by_squares),
-                        None if Instant::now() >= until => {
-                            let so_far = lower_bounds.iter().copied().max().unwrap_or(0);
-                            return Err(PlanError::Deadline {
-                                deadline: options.deadline,
-                                best_lower_bound_steps: so_far.max(nearest),
-                                ct_nodes: 0,
-                            });
-                        }
-                        None => return Err(unreachable()),
+        let (lb, first_goals) = match bottleneck_assignment_in(
+            space,
+            &group.starts,
+            (&group.goals, &group.to_goal),
+            bounds_until,
+        ) {
+            Bottleneck::Found(lb, assigned) => (lb, assigned),
+            Bottleneck::Unmatchable => return Err(unreachable()),
+            Bottleneck::OutOfTime => {
+                let until = started + options.deadline;
+                match assignment_by_squares(grid, space, group, until) {
+                    Some(by_squares) => (nearest, by_squares),
+                    None if Instant::now() >= until => {
+                        let so_far = lower_bounds.iter().copied().max().unwrap_or(0);
+                        return Err(PlanError::Deadline {
+                            deadline: options.deadline,
+                            best_lower_bound_steps: so_far.max(nearest),
+                            ct_nodes: 0,
+                        });
                     }
+                    None => return Err(unreachable()),
                 }
-            };
+            }
+        };
         lower_bounds.push(lb);
         assigned.push(first_goals);
     }

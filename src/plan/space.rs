@@ -18,6 +18,8 @@ pub(crate) struct Space {
     compact_of: Vec<u32>,
     offsets: Vec<u32>,
     moves: Vec<u32>,
+    /// Per cell, its grid coordinates (voxel indices), for distance estimates.
+    points: Vec<[i32; 3]>,
     /// Per cell, the free cells of its column within an ellipsoid's vertical reach
     /// (see [`VerticalReach`]): no two drones may be in related cells at one step.
     /// Empty for a sphere.
@@ -44,7 +46,9 @@ impl Space {
             moves[start..].shuffle(&mut rng);
         }
         offsets.push(moves.len() as u32);
+        let points = world_of.iter().map(|&c| world.voxel(c).into()).collect();
         Self {
+            points,
             world_of,
             compact_of,
             offsets,
@@ -98,6 +102,18 @@ impl Space {
 
     pub(crate) fn compact(&self, world_cell: Cell) -> u32 {
         self.compact_of[world_cell]
+    }
+
+    /// The grid coordinates of cell `c`.
+    pub(crate) fn point(&self, c: u32) -> [i32; 3] {
+        self.points[c as usize]
+    }
+
+    /// Moves between cells `a` and `b` were there no obstacles: a move changes
+    /// one coordinate by one, so never more than the moves around them.
+    pub(crate) fn manhattan(&self, a: u32, b: u32) -> u32 {
+        let (a, b) = (self.point(a), self.point(b));
+        (0..3).map(|k| a[k].abs_diff(b[k])).sum()
     }
 
     pub(crate) fn world_cell(&self, c: u32) -> Cell {

@@ -148,26 +148,17 @@ impl Profile {
         s
     }
 
-    /// When the drone passes `distance_m` along the run (clamped to the run).
+    /// When the drone passes `distance_m` along the run (clamped to the run), to
+    /// below a nanosecond.
     pub fn time_at_distance_s(&self, distance_m: f64) -> f64 {
         let x = distance_m.clamp(0.0, self.length_m);
-        let (mut lo, mut hi) = (0.0, self.duration_s());
+        let duration_s = self.duration_s();
         if x >= self.length_m {
-            return hi;
+            return duration_s;
         }
-        // Distance only grows along the run: bisect to below a nanosecond.
-        for _ in 0..64 {
-            let mid = 0.5 * (lo + hi);
-            if self.distance_at_m(mid) < x {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-            if hi - lo < 1e-10 {
-                break;
-            }
-        }
-        hi
+        // Distance only grows along the run.
+        pieces::time_to_reach_s(State::rest(0.0), &self.pieces(), x, 1e-10)
+            .map_or(duration_s, |t| t.min(duration_s))
     }
 
     /// Distance covered `time_s` after the start (clamped to the run).

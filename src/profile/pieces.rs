@@ -54,6 +54,39 @@ pub(super) fn state_at(start: State, pieces: &[Piece], t_s: f64) -> State {
     state
 }
 
+/// When the motion from `start` along `pieces` first reaches `x_m` (to within
+/// `tolerance_s`), `None` if it never does. Position must not decrease along
+/// the pieces (speed never negative), as on a rest-to-rest run: the piece
+/// holding `x_m` is found from the pieces' ends, and only it is bisected.
+pub(super) fn time_to_reach_s(
+    start: State,
+    pieces: &[Piece],
+    x_m: f64,
+    tolerance_s: f64,
+) -> Option<f64> {
+    if start.x_m >= x_m {
+        return Some(0.0);
+    }
+    let (mut state, mut began_s) = (start, 0.0);
+    for &(duration_s, jerk_mps3) in pieces {
+        let end = state.after(duration_s, jerk_mps3);
+        if end.x_m >= x_m {
+            let (mut lo, mut hi) = (0.0, duration_s);
+            while hi - lo >= tolerance_s {
+                let mid = 0.5 * (lo + hi);
+                if state.after(mid, jerk_mps3).x_m < x_m {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            return Some(began_s + hi);
+        }
+        (state, began_s) = (end, began_s + duration_s);
+    }
+    None
+}
+
 /// The total duration of `pieces`, seconds.
 pub(super) fn duration_s(pieces: &[Piece]) -> f64 {
     pieces.iter().map(|p| p.0).sum()
@@ -70,6 +103,28 @@ mod tests {
         assert!((s.x_m - 5.0).abs() < 1e-12);
         assert!((s.v_mps - 6.0).abs() < 1e-12);
         assert!((s.a_mps2 - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_time_to_reach_a_point_inverts_the_position() {
+        let pieces = [(1.0, 2.0), (0.5, 0.0), (1.0, -2.0), (2.0, 0.0)];
+        let end = state_at(State::rest(0.0), &pieces, 4.5).x_m;
+        for i in 0..=40 {
+            let x = end * f64::from(i) / 40.0;
+            let t = time_to_reach_s(State::rest(0.0), &pieces, x, 1e-10).expect("on the run");
+            assert!(
+                (state_at(State::rest(0.0), &pieces, t).x_m - x).abs() < 1e-8,
+                "x {x}"
+            );
+            // Reached first there: a moment before, not yet (where it moves at all).
+            if t > 1e-6 {
+                assert!(state_at(State::rest(0.0), &pieces, t - 1e-6).x_m < x);
+            }
+        }
+        assert_eq!(
+            time_to_reach_s(State::rest(0.0), &pieces, end + 0.1, 1e-10),
+            None
+        );
     }
 
     #[test]
