@@ -110,7 +110,7 @@ pub(crate) fn bottleneck_assignment_in(
     (goals, to_goal): (&[u32], &[u32]),
     until: Option<Instant>,
 ) -> Bottleneck {
-    match bottleneck_search(space, starts, (goals, to_goal), until) {
+    match bottleneck_search(space, starts, (goals, to_goal), until, PAIRWISE_DRONES) {
         Ok(Some((bound, assigned))) => Bottleneck::Found(bound, assigned),
         Ok(None) => Bottleneck::Unmatchable,
         Err(OutOfTime) => Bottleneck::OutOfTime,
@@ -120,12 +120,14 @@ pub(crate) fn bottleneck_assignment_in(
 /// `until` passed during a search.
 struct OutOfTime;
 
-/// See [`bottleneck_assignment_in`].
+/// See [`bottleneck_assignment_in`]; groups of up to `pairwise_drones` drones
+/// are searched pair by pair.
 fn bottleneck_search(
     space: &Space,
     starts: &[u32],
     (goals, to_goal): (&[u32], &[u32]),
     until: Option<Instant>,
+    pairwise_drones: usize,
 ) -> Result<Option<(u32, Vec<u32>)>, OutOfTime> {
     let late = || until.is_some_and(|u| Instant::now() >= u);
     if starts.is_empty() {
@@ -144,8 +146,8 @@ fn bottleneck_search(
     }
     // A few drones are found sooner by A* to each than by a ball from each goal
     // that must reach the farthest of them (see `pair_distances`).
-    let mut pairs = (starts.len() <= PAIRWISE_DRONES).then(|| PairSearch::new(space.len()));
-    let mut balls = Balls::new(if pairs.is_some() { 0 } else { space.len() });
+    let mut pairs = (starts.len() <= pairwise_drones).then(|| PairSearch::new(space.len()));
+    let mut balls = None;
     let mut radius = floor + 2;
     loop {
         // near[goal]: (drone, distance) for every drone within `radius` of it.
@@ -155,9 +157,17 @@ fn bottleneck_search(
             if i % 64 == 0 && late() {
                 return Err(OutOfTime);
             }
-            let (found, truncated) = match pairs.as_mut() {
-                Some(pairs) => pairs_within(pairs, space, g, starts, radius),
-                None => balls.search(space, g, radius, (&drone_at, starts.len())),
+            let by_pairs = pairs
+                .as_mut()
+                .and_then(|pairs| pairs_within(pairs, space, g, starts, radius));
+            let (found, truncated) = match by_pairs {
+                Some(found) => found,
+                None => {
+                    // Walls: A* to each drone costs more than one ball from here on.
+                    pairs = None;
+                    let balls = balls.get_or_insert_with(|| Balls::new(space.len()));
+                    balls.search(space, g, radius, (&drone_at, starts.len()))
+                }
             };
             cut_short |= truncated;
             near.push(found);
@@ -216,14 +226,17 @@ const PAIRWISE_DRONES: usize = 64;
 
 /// [`Balls::search`] by one A* search per drone: the drones (index into
 /// `starts`) within `radius` moves of `goal`, with their distances, and whether
-/// any drone may lie beyond the radius.
+/// any drone may lie beyond the radius. `None` once the searches have expanded
+/// more cells than the world has: walls make A* widen, and one ball would cost
+/// less.
 fn pairs_within(
     pairs: &mut PairSearch,
     space: &Space,
     goal: u32,
     starts: &[u32],
     radius: u32,
-) -> (Vec<(u32, u32)>, bool) {
+) -> Option<(Vec<(u32, u32)>, bool)> {
+    let budget = pairs.expanded() + space.len();
     let mut found = Vec::new();
     let mut beyond = false;
     for (d, &s) in starts.iter().enumerate() {
@@ -232,8 +245,11 @@ fn pairs_within(
             Reach::Beyond => beyond = true,
             Reach::Never => {}
         }
+        if pairs.expanded() > budget {
+            return None;
+        }
     }
-    (found, beyond)
+    Some((found, beyond))
 }
 
 /// Breadth-first searches bounded by a radius, sharing scratch space: each visits
@@ -368,6 +384,17 @@ mod tests {
             let (starts, goals) = free.split_at(drones);
             let bottleneck = group_lower_bound(&world, starts, goals);
             prop_assert_eq!(bottleneck, bottleneck_by_definition(&world, starts, goals));
+            // Balls alone, and pairs alone where their budget allows, agree.
+            let space = Space::new(&world, 0);
+            let compact = |v: &Voxel| space.compact(world.cell(*v).unwrap_or(0));
+            let (cs, cg): (Vec<u32>, Vec<u32>) =
+                (starts.iter().map(compact).collect(), goals.iter().map(compact).collect());
+            let to_goal = space.distances(&cg);
+            for pairwise_drones in [0, usize::MAX] {
+                let found = bottleneck_search(&space, &cs, (&cg, &to_goal), None, pairwise_drones);
+                let value = found.ok().flatten().map(|(t, _)| t);
+                prop_assert_eq!(value, bottleneck, "pairwise up to {} drones", pairwise_drones);
+            }
             // The nearest-goal bound a hurried leg falls back on is a bound too:
             // never above the bottleneck.
             let space = Space::new(&world, 0);

@@ -7,7 +7,9 @@
 //! (14,400 cells each at 1,000 drones in 50 groups on 40×40×10: a third of a
 //! first plan's time). A* from the goal to one drone expands little more than
 //! the cells along a shortest way where obstacles leave straight ways, so 20
-//! searches per goal cost a fraction of one ball.
+//! searches per goal cost a fraction of one ball. Behind walls A* widens
+//! towards a ball itself; the bound then goes back to balls (see
+//! `lower_bound`), so a maze costs no more than before.
 
 use super::space::Space;
 
@@ -33,6 +35,8 @@ pub(super) struct PairSearch {
     search: u32,
     /// Open cells with their moves, by `f` less the start's estimate.
     buckets: Vec<Vec<(u32, u32)>>,
+    /// Cells expanded, over every search: what the searches cost.
+    expanded: usize,
 }
 
 impl PairSearch {
@@ -42,7 +46,13 @@ impl PairSearch {
             moves: vec![0; cells],
             search: 0,
             buckets: Vec::new(),
+            expanded: 0,
         }
+    }
+
+    /// Cells expanded so far, over every search.
+    pub(super) fn expanded(&self) -> usize {
+        self.expanded
     }
 
     /// The moves from `from` to `to` in `space` (other drones ignored), if at
@@ -77,6 +87,7 @@ impl PairSearch {
                     answer = Some(g);
                     break 'levels;
                 }
+                self.expanded += 1;
                 for &n in &space.moves(c)[1..] {
                     let g_next = g + 1;
                     if self.seen[n as usize] == mark && self.moves[n as usize] <= g_next {

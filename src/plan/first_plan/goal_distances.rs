@@ -34,7 +34,8 @@ pub(crate) struct GoalDistances<'a> {
 /// Cells, summed over the goals searched in dense tables, up to which a goal's
 /// distances are kept in an array over the whole space rather than a hash map
 /// (64 MB): every goal of 1,000 drones on 40×40×10, where looking distances up
-/// in hash maps was a sixth of a first plan's time; at 100×100×20 the first 160.
+/// in hash maps was a sixth of a first plan's time; at 100×100×20 about the
+/// first 170.
 const DENSE_CELLS: usize = 32 << 20;
 
 /// One goal's breadth-first search, paused: every cell found has its exact
