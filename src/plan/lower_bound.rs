@@ -2,7 +2,7 @@
 
 use super::matching::{matched, maximum_matching};
 use super::pair_distances::{PairSearch, Reach};
-use super::space::{NONE, Space};
+use super::space::{Marks, NONE, Space};
 use crate::mission::Mission;
 use crate::world::{Voxel, VoxelGrid};
 use std::time::Instant;
@@ -140,10 +140,6 @@ fn bottleneck_search(
     let Some(floor) = floor else {
         return Ok(None);
     };
-    let mut drone_at = vec![NONE; space.len()];
-    for (d, &s) in starts.iter().enumerate() {
-        drone_at[s as usize] = d as u32;
-    }
     // A few drones are found sooner by A* to each than by a ball from each goal
     // that must reach the farthest of them (see `pair_distances`).
     let mut pairs = (starts.len() <= pairwise_drones).then(|| PairSearch::new(space.len()));
@@ -165,8 +161,8 @@ fn bottleneck_search(
                 None => {
                     // Walls: A* to each drone costs more than one ball from here on.
                     pairs = None;
-                    let balls = balls.get_or_insert_with(|| Balls::new(space.len()));
-                    balls.search(space, g, radius, (&drone_at, starts.len()))
+                    let balls = balls.get_or_insert_with(|| Balls::new(space, starts));
+                    balls.search(space, g, radius)
                 }
             };
             cut_short |= truncated;
@@ -252,55 +248,49 @@ fn pairs_within(
     Some((found, beyond))
 }
 
-/// Breadth-first searches bounded by a radius, sharing scratch space: each visits
-/// only its ball, and starting the next costs nothing (cells are marked with the
-/// search's number, not cleared). The queue is walked layer by layer, so a
-/// cell's distance is its layer's and is never stored.
+/// Breadth-first searches bounded by a radius for one group's drones, sharing
+/// scratch space ([`Marks`]): each visits only its ball, and starting the next
+/// costs nothing. The queue is walked layer by layer, so a cell's distance is
+/// its layer's and is never stored.
 struct Balls {
-    /// Per cell, the number of the last search that reached it.
-    seen: Vec<u32>,
-    search: u32,
+    /// Per cell, the drone (index into the starts) there, or [`NONE`].
+    drone_at: Vec<u32>,
+    drones: usize,
+    seen: Marks,
     queue: Vec<u32>,
 }
 
 impl Balls {
-    fn new(cells: usize) -> Self {
+    fn new(space: &Space, starts: &[u32]) -> Self {
+        let mut drone_at = vec![NONE; space.len()];
+        for (d, &s) in starts.iter().enumerate() {
+            drone_at[s as usize] = d as u32;
+        }
         Self {
-            seen: vec![0; cells],
-            search: 0,
+            drone_at,
+            drones: starts.len(),
+            seen: Marks::new(space.len()),
             queue: Vec::new(),
         }
     }
 
-    /// The drones (`drone_at[cell]`, `drones` of them in all) within `radius`
-    /// moves of `from`, with their distances, and whether cells lay beyond the
-    /// radius. Stops once every drone is found: farther cells add nothing.
-    fn search(
-        &mut self,
-        space: &Space,
-        from: u32,
-        radius: u32,
-        (drone_at, drones): (&[u32], usize),
-    ) -> (Vec<(u32, u32)>, bool) {
-        self.search = self.search.wrapping_add(1);
-        if self.search == 0 {
-            // After 2³² searches the marks wrap: forget them all once.
-            self.seen.fill(0);
-            self.search = 1;
-        }
-        let mark = self.search;
+    /// The drones within `radius` moves of `from`, with their distances, and
+    /// whether cells lay beyond the radius. Stops once every drone is found:
+    /// farther cells add nothing.
+    fn search(&mut self, space: &Space, from: u32, radius: u32) -> (Vec<(u32, u32)>, bool) {
+        self.seen.next_search();
         let mut found = Vec::new();
         self.queue.clear();
         self.queue.push(from);
-        self.seen[from as usize] = mark;
+        self.seen.mark(from);
         let (mut layer_start, mut distance) = (0, 0);
         while layer_start < self.queue.len() {
             let layer_end = self.queue.len();
             for &c in &self.queue[layer_start..layer_end] {
-                let drone = drone_at[c as usize];
+                let drone = self.drone_at[c as usize];
                 if drone != NONE {
                     found.push((drone, distance));
-                    if found.len() == drones {
+                    if found.len() == self.drones {
                         return (found, false);
                     }
                 }
@@ -309,11 +299,11 @@ impl Balls {
             for i in layer_start..layer_end {
                 let c = self.queue[i];
                 for &n in &space.moves(c)[1..] {
-                    if self.seen[n as usize] != mark {
+                    if !self.seen.is_marked(n) {
                         if last {
                             return (found, true); // a cell beyond the radius
                         }
-                        self.seen[n as usize] = mark;
+                        self.seen.mark(n);
                         self.queue.push(n);
                     }
                 }

@@ -11,7 +11,7 @@
 //! towards a ball itself; the bound then goes back to balls (see
 //! `lower_bound`), so a maze costs no more than before.
 
-use super::space::Space;
+use super::space::{Marks, Space};
 
 /// What a capped search found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -24,15 +24,13 @@ pub(super) enum Reach {
     Never,
 }
 
-/// A* searches sharing scratch space: cells are marked with the search's
-/// number rather than cleared, and the open set is a bucket queue over the
+/// A* searches sharing scratch space ([`Marks`]), the open set is a bucket queue over the
 /// integer estimate `f = g + h` (last in, first out within a bucket, so ties go
 /// deepest first and a straight way is followed without widening).
 pub(super) struct PairSearch {
-    /// Per cell, the number of the last search that reached it, and its moves then.
-    seen: Vec<u32>,
+    /// The cells this search has reached, and their moves then.
+    seen: Marks,
     moves: Vec<u32>,
-    search: u32,
     /// Open cells with their moves, by `f` less the start's estimate.
     buckets: Vec<Vec<(u32, u32)>>,
     /// Cells expanded, over every search: what the searches cost.
@@ -42,9 +40,8 @@ pub(super) struct PairSearch {
 impl PairSearch {
     pub(super) fn new(cells: usize) -> Self {
         Self {
-            seen: vec![0; cells],
+            seen: Marks::new(cells),
             moves: vec![0; cells],
-            search: 0,
             buckets: Vec::new(),
             expanded: 0,
         }
@@ -62,18 +59,12 @@ impl PairSearch {
         if floor > cap {
             return Reach::Beyond;
         }
-        self.search = self.search.wrapping_add(1);
-        if self.search == 0 {
-            // After 2³² searches the marks wrap: forget them all once.
-            self.seen.fill(0);
-            self.search = 1;
-        }
-        let mark = self.search;
+        self.seen.next_search();
         let levels = (cap - floor) as usize + 1;
         if self.buckets.len() < levels {
             self.buckets.resize_with(levels, Vec::new);
         }
-        self.seen[from as usize] = mark;
+        self.seen.mark(from);
         self.moves[from as usize] = 0;
         self.buckets[0].push((from, 0));
         let mut beyond = false;
@@ -90,10 +81,10 @@ impl PairSearch {
                 self.expanded += 1;
                 for &n in &space.moves(c)[1..] {
                     let g_next = g + 1;
-                    if self.seen[n as usize] == mark && self.moves[n as usize] <= g_next {
+                    if self.seen.is_marked(n) && self.moves[n as usize] <= g_next {
                         continue;
                     }
-                    self.seen[n as usize] = mark;
+                    self.seen.mark(n);
                     self.moves[n as usize] = g_next;
                     // A consistent estimate: f never falls along a move.
                     let f = g_next + space.manhattan(n, to);

@@ -211,7 +211,7 @@ pub(super) fn solve_in_space(
         cells.push(GroupCells::new(space, starts, &goals));
     }
     let (lower_bounds, assigned) =
-        bounds_and_assignments(grid, space, &cells, (options, effort, started), progress)?;
+        bounds_and_assignments(space, &cells, (options, effort, started), progress)?;
     let legs = (options, legs_after, effort);
     let groups = (&cells[..], &lower_bounds[..], &assigned[..]);
     let routed = plan_anytime(space, groups, legs, started, progress)?;
@@ -231,7 +231,6 @@ pub(super) fn solve_in_space(
 /// the time it gives that, the nearest-goal bound and an assignment by squared
 /// distances. Fails naming the group (`#i`) that cannot reach its goals.
 fn bounds_and_assignments(
-    grid: &VoxelGrid,
     space: &Space,
     cells: &[GroupCells],
     (options, effort, started): (&PlanOptions, Effort, Instant),
@@ -281,7 +280,7 @@ fn bounds_and_assignments(
             Bottleneck::Unmatchable => return Err(unreachable()),
             Bottleneck::OutOfTime => {
                 let until = started + options.deadline;
-                match assignment_by_squares(grid, space, group, until) {
+                match assignment_by_squares(space, group, until) {
                     Some(by_squares) => (nearest, by_squares),
                     None if Instant::now() >= until => {
                         let so_far = lower_bounds.iter().copied().max().unwrap_or(0);
@@ -304,13 +303,8 @@ fn bounds_and_assignments(
 /// Each drone of `group` a distinct goal such that no exchange of two drones'
 /// goals lowers their summed squared distances (`open_sky`'s assignment): a
 /// start for PIBT found in milliseconds; `None` past `until`.
-fn assignment_by_squares(
-    grid: &VoxelGrid,
-    space: &Space,
-    group: &GroupCells,
-    until: Instant,
-) -> Option<Vec<u32>> {
-    let point = |&c: &u32| -> [i32; 3] { grid.voxel(space.world_cell(c)).into() };
+fn assignment_by_squares(space: &Space, group: &GroupCells, until: Instant) -> Option<Vec<u32>> {
+    let point = |&c: &u32| space.point(c);
     let starts: Vec<[i32; 3]> = group.starts.iter().map(point).collect();
     let goals: Vec<[i32; 3]> = group.goals.iter().map(point).collect();
     let goal_of = pairwise_stable(&starts, &goals, until)?;

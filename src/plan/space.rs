@@ -142,3 +142,39 @@ impl Space {
         dist
     }
 }
+
+/// Per cell, whether the current search has reached it, for searches that run
+/// one after another over the same space: a search's cells are marked with its
+/// number, so starting the next costs nothing rather than clearing the last.
+#[derive(Debug, Clone)]
+pub(crate) struct Marks {
+    seen: Vec<u32>,
+    search: u32,
+}
+
+impl Marks {
+    pub(crate) fn new(cells: usize) -> Self {
+        Self {
+            seen: vec![0; cells],
+            search: 0,
+        }
+    }
+
+    /// Forgets every cell: the next search begins.
+    pub(crate) fn next_search(&mut self) {
+        self.search = self.search.wrapping_add(1);
+        if self.search == 0 {
+            // After 2³² searches the numbers wrap: clear them all once.
+            self.seen.fill(0);
+            self.search = 1;
+        }
+    }
+
+    pub(crate) fn is_marked(&self, c: u32) -> bool {
+        self.seen[c as usize] == self.search
+    }
+
+    pub(crate) fn mark(&mut self, c: u32) {
+        self.seen[c as usize] = self.search;
+    }
+}

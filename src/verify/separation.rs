@@ -58,32 +58,27 @@ fn separation_on(
         return separation_over(samples, times, 0..times.len(), scale);
     }
     let chunk = times.len().div_ceil(threads);
-    let runs: Vec<Separation> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..times.len())
+    let run = |from: usize| from..(from + chunk).min(times.len());
+    std::thread::scope(|scope| {
+        let later: Vec<_> = (chunk..times.len())
             .step_by(chunk)
-            .map(|from| {
-                let ks = from..(from + chunk).min(times.len());
-                scope.spawn(move || separation_over(samples, times, ks, scale))
-            })
+            .map(|from| scope.spawn(move || separation_over(samples, times, run(from), scale)))
             .collect();
-        // A thread's panic is passed on as the same code on this thread would.
-        handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
-    });
-    let mut runs = runs.into_iter();
-    let first = runs
-        .next()
-        .unwrap_or_else(|| separation_over(samples, times, 0..0, scale));
-    runs.fold(first, |mut out, run| {
-        out.samples_m = out.samples_m.min(run.samples_m);
-        out.interpolated_m = out.interpolated_m.min(run.interpolated_m);
-        if run.bound_m < out.bound_m {
-            out.bound_m = run.bound_m;
-            out.closest = run.closest;
-        }
-        out
+        // The first run here, the later ones merged in time order.
+        let first = separation_over(samples, times, run(0), scale);
+        later.into_iter().fold(first, |mut out, handle| {
+            // A thread's panic is passed on as the same code on this thread would.
+            let run = handle
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+            out.samples_m = out.samples_m.min(run.samples_m);
+            out.interpolated_m = out.interpolated_m.min(run.interpolated_m);
+            if run.bound_m < out.bound_m {
+                out.bound_m = run.bound_m;
+                out.closest = run.closest;
+            }
+            out
+        })
     })
 }
 
