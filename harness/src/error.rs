@@ -126,6 +126,21 @@ pub enum HarnessError {
         #[from]
         source: swarmctl::fly::FlyError,
     },
+    /// A map given to the peers benchmark could not be read as a MovingAI map.
+    #[error(transparent)]
+    PeerMap {
+        /// What the importer said, naming the file and line.
+        #[from]
+        source: swarmctl::import::ImportError,
+    },
+    /// A map cannot hold the instance asked of it, or cannot be given to a peer.
+    #[error("{}: {problem}", map.display())]
+    PeerInstance {
+        /// The map file.
+        map: std::path::PathBuf,
+        /// What is wrong.
+        problem: String,
+    },
     /// The bundled SITL refused the configuration or did not start.
     #[error(transparent)]
     SitlStart {

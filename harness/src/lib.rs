@@ -1,6 +1,7 @@
 //! Reproducible benchmark suites behind `swarmctl bench`: the planner suites,
-//! the fault matrix, the soak, load and relay-load runners, and the timing of
-//! flights against their schedules.
+//! the fault matrix, the soak, load and relay-load runners, the timing of
+//! flights against their schedules, and the side-by-side runs with the public
+//! solvers.
 //!
 //! Each suite is a list of seeded instances; the report gives medians and maxima, so
 //! a noisy shared machine shows as spread rather than as a wrong figure.
@@ -8,6 +9,7 @@
 mod error;
 pub mod fault_matrix;
 pub mod load;
+pub mod peers;
 mod plan_suite;
 pub mod relays;
 pub mod resources;

@@ -8,6 +8,7 @@ mod error;
 mod libmrp;
 mod movingai;
 mod movingai3d;
+mod one_group;
 
 use crate::mission::{Mission, MissionError, MissionFile};
 use std::path::Path;
@@ -16,8 +17,9 @@ pub use build::default_limits;
 pub use error::ImportError;
 
 pub use libmrp::parse_libmrp;
-pub use movingai::{parse_map, parse_scen};
+pub use movingai::{GridMap, ScenarioRow, parse_map, parse_scen};
 pub use movingai3d::{parse_3dmap, parse_3dscen};
+pub use one_group::{ONE_GROUP_NAME, as_one_group};
 
 /// Which format a file is in, from its name and (for YAML) its top-level keys.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,20 +52,18 @@ pub fn load_any(path: &Path, agents: Option<usize>) -> Result<Mission, ImportErr
         named_by: None,
         source,
     })?;
-    if let Some(ext @ ("map" | "3dmap")) = path.extension().and_then(|e| e.to_str()) {
-        let scenario = if ext == "map" { "scen" } else { "3dscen" };
-        return Err(ImportError::format(
-            path,
-            None,
-            format!(
-                "this is a MovingAI map, not an instance: pass a .{scenario} scenario instead (each of its rows names this map and gives one agent's start and goal)"
-            ),
-        ));
-    }
+    refuse_map(path)?;
     match detect_format(path, &text) {
         Format::Mission => Ok(crate::mission::from_yaml(&text, path)?),
         format => validated(path, &instance_from_text(path, &text, format, agents)?),
     }
+}
+
+/// Loads a community instance (not a mission) with all its agents in one group:
+/// the unlabeled problem on the same file ([`as_one_group`]).
+pub fn load_as_one_group(path: &Path, agents: Option<usize>) -> Result<Mission, ImportError> {
+    let file = as_one_group(instance_file(path, agents)?, path)?;
+    validated(path, &file)
 }
 
 /// The mission file an instance (not a mission) becomes, before validation: to
@@ -74,7 +74,24 @@ pub fn instance_file(path: &Path, agents: Option<usize>) -> Result<MissionFile, 
         named_by: None,
         source,
     })?;
+    refuse_map(path)?;
     instance_from_text(path, &text, detect_format(path, &text), agents)
+}
+
+/// A MovingAI map given where an instance belongs, refused with a pointer to the
+/// scenario format (a map alone has no agents).
+fn refuse_map(path: &Path) -> Result<(), ImportError> {
+    if let Some(ext @ ("map" | "3dmap")) = path.extension().and_then(|e| e.to_str()) {
+        let scenario = if ext == "map" { "scen" } else { "3dscen" };
+        return Err(ImportError::format(
+            path,
+            None,
+            format!(
+                "this is a MovingAI map, not an instance: pass a .{scenario} scenario instead (each of its rows names this map and gives one agent's start and goal)"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `text` (read from `path`) in `format` as a mission file.

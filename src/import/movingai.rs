@@ -13,16 +13,22 @@ use std::path::Path;
 /// A parsed grid map: its size and blocked cells `[x, y]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GridMap {
+    /// Columns (x runs from 0 to `width - 1`).
     pub width: usize,
+    /// Rows (y runs from 0 to `height - 1`, row 0 first in the file).
     pub height: usize,
+    /// The blocked cells `[x, y]`, row by row.
     pub blocked: Vec<[usize; 2]>,
 }
 
 /// One scenario row: a start and a goal on a named map.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScenarioRow {
+    /// The map file's name, looked up next to the scenario.
     pub map: String,
+    /// The agent's start `[x, y]`.
     pub start: [usize; 2],
+    /// The agent's goal `[x, y]`.
     pub goal: [usize; 2],
 }
 

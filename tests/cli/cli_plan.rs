@@ -323,3 +323,62 @@ fn plan_states_its_bound_and_gap() {
     let stderr = String::from_utf8_lossy(&demanding.stderr);
     assert!(stderr.contains("optimal makespan is at least"), "{stderr}");
 }
+
+#[test]
+fn plans_a_scenario_as_one_group_and_writes_its_figures() {
+    let scen = repo("tests/data/movingai/random-32-32-10-random-1.scen");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (out, stats) = (dir.path().join("plan.json"), dir.path().join("stats.json"));
+    swarmctl()
+        .arg("plan")
+        .arg(&scen)
+        .args(["--agents", "30", "--one-group", "-o"])
+        .arg(&out)
+        .arg("--stats")
+        .arg(&stats)
+        .assert()
+        .success()
+        .stdout(contains("planned 30 drones in 1 group\n"));
+    let plan: DiscretePlan =
+        serde_json::from_str(&std::fs::read_to_string(&out).expect("plan")).expect("plan schema");
+    let mission = swarmctl::import::load_as_one_group(&scen, Some(30)).expect("loads");
+    if let Err(v) = swarmctl::plan::validate_plan(&mission, &plan) {
+        panic!("{v:#?}");
+    }
+    assert!(
+        plan.drones
+            .iter()
+            .all(|d| d.group == swarmctl::import::ONE_GROUP_NAME)
+    );
+    // Any agent may take any goal: never longer than each agent to its own goal.
+    let labeled = plan_file(&scen, &["--agents", "30"]);
+    let (one_group, own_goals) = (formation_leg(&plan).0, formation_leg(&labeled).0);
+    assert!(
+        one_group <= own_goals,
+        "one group {one_group} > labeled {own_goals}"
+    );
+
+    let figures: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).expect("stats")).expect("json");
+    let legs = figures["legs"].as_array().expect("legs");
+    let formation = legs
+        .iter()
+        .find(|l| l["name"] == "formation")
+        .expect("a formation leg");
+    assert_eq!(formation["makespan_steps"], u64::from(one_group));
+    let proven = formation["proven_bound_steps"].as_u64().expect("bound");
+    assert!(proven <= u64::from(one_group));
+    assert!(formation["time_s"].as_f64().is_some_and(|t| t >= 0.0));
+    assert_eq!(legs.len(), plan.legs.len());
+}
+
+#[test]
+fn one_group_is_refused_for_a_mission_file() {
+    swarmctl()
+        .args(["plan", "--one-group"])
+        .arg(repo("missions/paper-example.yaml"))
+        .assert()
+        .failure()
+        .stderr(contains("paper-example.yaml"))
+        .stderr(contains("this is a mission file already"));
+}

@@ -1,5 +1,5 @@
 //! The `swarmctl` command line end to end, run as a user runs it: `check`,
-//! `plan`, `gen`, `replay` and the Rerun recordings, flights through relays, the
+//! `plan`, `gen`, `replay` and the Rerun recordings, `bench peers`, flights through relays, the
 //! messages and exit codes an operator meets, starting a flight at a given
 //! instant, and every shell block of the README.
 // Tests may unwrap, expect and run long: a failure is a failed test.
@@ -8,6 +8,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod bench_peers;
 mod cli_check;
 mod cli_plan;
 mod closed_pipe;

@@ -263,9 +263,16 @@ async fn ctrl_c_mid_flight_on_real_arducopter_lands_everyone_apart() {
             "{id} is still up ({:.2} m) and was not reported",
             a[2]
         );
+        // A drone on the ground blocks the column within the safety distance
+        // plus the tracking bound, how far a lander may drift on its way down
+        // (the README's "Ctrl-C" paragraph): r4 landed 0.455 m from under r3
+        // (truth), inside 0.40 + 0.29 m, on 2026-12-07.
+        let column_m = d + mission.limits.tracking_error_m;
         assert!(
-            landed.iter().any(|b| (a[0] - b[0]).hypot(a[1] - b[1]) < d),
-            "{id} was held up though nobody landed below it"
+            landed
+                .iter()
+                .any(|b| (a[0] - b[0]).hypot(a[1] - b[1]) < column_m),
+            "{id} was held up though nobody landed within {column_m:.2} m below it"
         );
         assert!(
             log.summary.unaccounted.iter().any(|u| &u.id == id),

@@ -26,6 +26,9 @@ enum Target {
         #[arg(long)]
         cbm_only: bool,
     },
+    /// Plan the same MovingAI instances with swarmctl and with the public
+    /// solvers (LaCAM3, tswap), each a whole process; print one table.
+    Peers(super::bench_peers::Args),
     /// Fly the fault matrix on the bundled SITL and print the results table.
     Faults {
         /// Mission to fly (the scenarios name drones b1 and r1, r2 of it).
@@ -103,6 +106,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             deadline,
             cbm_only,
         } => plan(suite, seeds, deadline, cbm_only),
+        Target::Peers(peers) => super::bench_peers::run(peers),
         Target::Faults {
             mission,
             reduced,

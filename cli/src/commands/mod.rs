@@ -4,6 +4,7 @@
 pub mod autopilot;
 pub mod bench;
 pub mod bench_flight;
+pub mod bench_peers;
 pub mod bench_relays;
 pub mod check;
 pub mod fly;

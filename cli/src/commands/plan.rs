@@ -17,9 +17,17 @@ pub struct Args {
     /// How many agents to take from a scenario (default: all rows).
     #[arg(long)]
     agents: Option<usize>,
+    /// Plan a community instance's agents as one team: any agent may take any
+    /// agent's goal (the unlabeled problem TSWAP solves on the same files).
+    #[arg(long)]
+    one_group: bool,
     /// Write the plan (JSON) here.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Write the planner's figures here (JSON): per leg its makespan, lower
+    /// bound, proven bound, first plan and time; for scripts and benchmarks.
+    #[arg(long, value_name = "FILE")]
+    stats: Option<PathBuf>,
     /// Answer within this many seconds (plus a margin: the deadline is kept
     /// within 10 % when the plan's schedule takes what it usually does): the best
     /// plan found by then, scheduled and checked, with its gap to the lower bound
@@ -40,7 +48,11 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let began = Instant::now();
     let input = args.mission.or(args.scen).context("no mission given")?;
-    let mission = import::load_any(&input, args.agents)?;
+    let mission = if args.one_group {
+        import::load_as_one_group(&input, args.agents)?
+    } else {
+        import::load_any(&input, args.agents)?
+    };
     let options = plan::PlanOptions {
         seed: args.seed,
         ..deadline_options(args.deadline, began, args.optimal)?
@@ -55,6 +67,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     print_solution(&input, &mission, &solution);
+    if let Some(path) = &args.stats {
+        let json = serde_json::to_vec_pretty(&solution.stats).context("encoding the figures")?;
+        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+    }
     super::pads::print_pads_and_legs(&mission);
     let compiled = compiled::compile(&mission, &solution)
         .with_context(|| format!("scheduling {} (no plan file written)", input.display()))?;
@@ -183,10 +199,10 @@ fn print_solution(
     let s = &solution.stats;
     let p = &solution.plan;
     println!(
-        "{}: planned {} drones in {} groups",
+        "{}: planned {} in {}",
         input.display(),
-        p.drones.len(),
-        mission.groups.len()
+        count(p.drones.len() as u64, "drone"),
+        count(mission.groups.len() as u64, "group")
     );
     let proven: u32 = s.legs.iter().map(|l| l.proven_bound_steps).sum();
     println!(
