@@ -5,8 +5,9 @@
 //! TSWAP and FlowNetwork for one group (every agent free to take any goal).
 //! They are built by the user from their own repositories, as their READMEs say,
 //! and named by path; swarmctl builds and fetches nothing. Each instance is a
-//! MovingAI map with seeded random starts and goals ([`instance`]), written
-//! once and given to every solver; each run is bounded in time ([`child`]).
+//! MovingAI map with seeded random starts and goals ([`random_instance`]),
+//! written once and given to every solver; each run is a child process bounded
+//! in time, measured from `exec` to exit ([`ChildRun`]).
 //!
 //! ```no_run
 //! use swarmctl_harness::peers::{PeerOptions, run_peers};
