@@ -17,6 +17,8 @@ use swarmctl::import::{GridMap, parse_map};
 /// One instance: a map and where its agents start and end.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GridInstance {
+    /// The map's file name (as the scenario names it).
+    pub map_name: String,
     /// The map, copied into the work directory beside the scenario.
     pub map_path: PathBuf,
     /// The scenario naming it (`version 1` and one row per agent).
@@ -27,6 +29,17 @@ pub struct GridInstance {
     pub starts: Vec<[usize; 2]>,
     /// Agent `k`'s own goal (the unlabeled problem takes them as one set).
     pub goals: Vec<[usize; 2]>,
+}
+
+impl GridInstance {
+    /// The scenario's file stem (`<map>-<agents>-<seed>`): names the result and
+    /// log files of every solver on this instance.
+    pub fn stem(&self) -> String {
+        self.scen_path.file_stem().map_or_else(
+            || "instance".to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        )
+    }
 }
 
 /// `agents` random starts and goals on `map_file` (seeded by `seed`), written to
@@ -69,6 +82,7 @@ pub fn random_instance(
     let scen = scenario_text(&map_name, [map.width, map.height], &starts, &goals);
     std::fs::write(&scen_path, scen).map_err(io(format!("writing {}", scen_path.display())))?;
     Ok(GridInstance {
+        map_name,
         map_path,
         scen_path,
         size: [map.width, map.height],

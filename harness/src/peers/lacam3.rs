@@ -5,10 +5,9 @@
 //! its anytime part LaCAM3 stops at its first solution, which is what is
 //! compared (time to a first solution, and that solution's makespan).
 
-use super::child::{ChildRun, run_bounded};
 use super::instance::GridInstance;
 use super::result_file::number;
-use super::{Answer, PeerRun};
+use super::{Answer, PeerRun, run_solver};
 use crate::HarnessError;
 use std::path::Path;
 use std::process::Command;
@@ -21,9 +20,8 @@ pub fn run(
     limit: Duration,
     work_dir: &Path,
 ) -> Result<PeerRun, HarnessError> {
-    let stem = scen_stem(instance);
+    let stem = instance.stem();
     let result = work_dir.join(format!("{stem}.lacam3.txt"));
-    let _ = std::fs::remove_file(&result);
     let mut command = Command::new(binary);
     command
         .arg("-m")
@@ -36,24 +34,9 @@ pub fn run(
         .arg(&result)
         .arg("--no-star");
     // A second beyond its own limit, for reading the map and writing the result.
-    let process = run_bounded(
-        &mut command,
-        limit + Duration::from_secs(1),
-        &work_dir.join(format!("{stem}.lacam3.log")),
-    )?;
-    Ok(PeerRun {
-        solver: "LaCAM3",
-        process,
-        answer: answer(&process, &result),
-    })
-}
-
-/// What LaCAM3's result file says, if the run ended well and wrote one.
-fn answer(process: &ChildRun, result: &Path) -> Option<Answer> {
-    if !process.succeeded() {
-        return None;
-    }
-    parse(&std::fs::read_to_string(result).ok()?)
+    let log = work_dir.join(format!("{stem}.lacam3.log"));
+    let bound = (limit + Duration::from_secs(1), log.as_path());
+    run_solver("LaCAM3", &mut command, bound, &result, parse)
 }
 
 /// LaCAM3's `result.txt`: `solved`, `makespan`, `makespan_lb`, `comp_time` (ms).
@@ -69,14 +52,6 @@ fn parse(text: &str) -> Option<Answer> {
         lower_bound_steps: number(text, "makespan_lb"),
         optimal: false,
     })
-}
-
-/// The scenario's file stem: names the result and log files of one instance.
-pub(super) fn scen_stem(instance: &GridInstance) -> String {
-    instance.scen_path.file_stem().map_or_else(
-        || "instance".to_string(),
-        |s| s.to_string_lossy().into_owned(),
-    )
 }
 
 #[cfg(test)]

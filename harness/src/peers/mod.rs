@@ -32,7 +32,8 @@ pub use instance::{GridInstance, random_instance};
 pub use report::PeersReport;
 
 use crate::HarnessError;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::time::Duration;
 
 /// Which problem an instance is solved as.
@@ -164,16 +165,14 @@ pub fn run_peers(
         for &agents in &options.agents {
             for seed in 1..=options.seeds {
                 let instance = random_instance(map, agents, seed, &options.work_dir)?;
-                let name = map
-                    .file_name()
-                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
                 for &problem in &options.problems {
                     progress(&format!(
-                        "{name}, {agents} agents, seed {seed}, {}",
+                        "{}, {agents} agents, seed {seed}, {}",
+                        instance.map_name,
                         problem.name()
                     ));
                     instances.push(InstanceRuns {
-                        map: name.clone(),
+                        map: instance.map_name.clone(),
                         agents,
                         seed,
                         problem,
@@ -216,4 +215,31 @@ fn solve(
         }
     }
     Ok(runs)
+}
+
+/// Runs `solver` as `command`, which writes its answer to `result`, killed at
+/// `limit` with its output in `log`; the answer is `parse` of the result file
+/// when the process exited with status 0. A result left by an earlier run is
+/// removed first, so it is never read as this run's.
+fn run_solver(
+    solver: &'static str,
+    command: &mut Command,
+    (limit, log): (Duration, &Path),
+    result: &Path,
+    parse: impl Fn(&str) -> Option<Answer>,
+) -> Result<PeerRun, HarnessError> {
+    let _ = std::fs::remove_file(result);
+    let process = child::run_bounded(command, limit, log)?;
+    let answer = if process.succeeded() {
+        std::fs::read_to_string(result)
+            .ok()
+            .and_then(|text| parse(&text))
+    } else {
+        None
+    };
+    Ok(PeerRun {
+        solver,
+        process,
+        answer,
+    })
 }

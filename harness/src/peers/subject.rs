@@ -8,10 +8,8 @@
 //! 20). The process time includes them, and scheduling and checking the flight,
 //! which no peer does.
 
-use super::child::{ChildRun, run_bounded};
 use super::instance::GridInstance;
-use super::lacam3::scen_stem;
-use super::{Answer, PeerRun, Problem};
+use super::{Answer, PeerRun, Problem, run_solver};
 use crate::HarnessError;
 use std::path::Path;
 use std::process::Command;
@@ -29,9 +27,8 @@ pub fn run(
     limit: Duration,
     work_dir: &Path,
 ) -> Result<PeerRun, HarnessError> {
-    let stem = format!("{}.{}", scen_stem(instance), problem.name());
+    let stem = format!("{}.{}", instance.stem(), problem.name());
     let stats = work_dir.join(format!("{stem}.swarmctl.json"));
-    let _ = std::fs::remove_file(&stats);
     let mut command = Command::new(binary);
     command
         .arg("plan")
@@ -43,24 +40,9 @@ pub fn run(
         command.arg("--one-group");
     }
     // Its deadline is a promise within 10 %; more is a finding, not a hang.
-    let process = run_bounded(
-        &mut command,
-        limit * 2 + Duration::from_secs(5),
-        &work_dir.join(format!("{stem}.swarmctl.log")),
-    )?;
-    Ok(PeerRun {
-        solver: "swarmctl",
-        process,
-        answer: answer(&process, &stats),
-    })
-}
-
-/// The formation leg's figures from `--stats`, if the run ended well.
-fn answer(process: &ChildRun, stats: &Path) -> Option<Answer> {
-    if !process.succeeded() {
-        return None;
-    }
-    parse(&std::fs::read_to_string(stats).ok()?)
+    let log = work_dir.join(format!("{stem}.swarmctl.log"));
+    let bound = (limit * 2 + Duration::from_secs(5), log.as_path());
+    run_solver("swarmctl", &mut command, bound, &stats, parse)
 }
 
 /// The formation leg of `swarmctl plan --stats`: its first plan (time and

@@ -8,11 +8,9 @@
 //! `sx,sy,gx,gy` per agent) and looks the map up in the `map/` folder it was
 //! built with, so the map is copied there first.
 
-use super::child::{ChildRun, run_bounded};
 use super::instance::GridInstance;
-use super::lacam3::scen_stem;
 use super::result_file::{inner_number, number};
-use super::{Answer, PeerRun};
+use super::{Answer, PeerRun, run_solver};
 use crate::HarnessError;
 use std::path::Path;
 use std::process::Command;
@@ -47,17 +45,14 @@ pub fn run(
     limit: Duration,
     work_dir: &Path,
 ) -> Result<PeerRun, HarnessError> {
-    let map_name = place_map(instance, map_dir)?;
-    let stem = format!("{}.{}", scen_stem(instance), solver.name());
+    place_map(instance, map_dir)?;
+    let stem = format!("{}.{}", instance.stem(), solver.name());
     let input = work_dir.join(format!("{stem}.in.txt"));
-    std::fs::write(&input, instance_text(&map_name, instance, limit)).map_err(|source| {
-        HarnessError::Io {
-            what: format!("writing {}", input.display()),
-            source,
-        }
+    std::fs::write(&input, instance_text(instance, limit)).map_err(|source| HarnessError::Io {
+        what: format!("writing {}", input.display()),
+        source,
     })?;
     let result = work_dir.join(format!("{stem}.txt"));
-    let _ = std::fs::remove_file(&result);
     let mut command = Command::new(binary);
     command
         .arg("-i")
@@ -65,29 +60,20 @@ pub fn run(
         .args(["-s", solver.name()])
         .arg("-o")
         .arg(&result);
-    let process = run_bounded(
-        &mut command,
-        limit + Duration::from_secs(1),
-        &work_dir.join(format!("{stem}.log")),
-    )?;
-    Ok(PeerRun {
-        solver: solver.name(),
-        process,
-        answer: answer(&process, &result, solver),
+    let log = work_dir.join(format!("{stem}.log"));
+    let bound = (limit + Duration::from_secs(1), log.as_path());
+    run_solver(solver.name(), &mut command, bound, &result, |text| {
+        parse(text, solver)
     })
 }
 
 /// Copies the instance's map into tswap's map folder, unless the same file is
 /// there; refuses to overwrite a different map of that name.
-fn place_map(instance: &GridInstance, map_dir: &Path) -> Result<String, HarnessError> {
+fn place_map(instance: &GridInstance, map_dir: &Path) -> Result<(), HarnessError> {
     let io = |what: String| move |source| HarnessError::Io { what, source };
-    let name = instance.map_path.file_name().map_or_else(
-        || "map.map".to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
     let ours = std::fs::read(&instance.map_path)
         .map_err(io(format!("reading {}", instance.map_path.display())))?;
-    let theirs = map_dir.join(&name);
+    let theirs = map_dir.join(&instance.map_name);
     match std::fs::read(&theirs) {
         Ok(existing) if existing == ours => {}
         Ok(_) => {
@@ -102,17 +88,18 @@ fn place_map(instance: &GridInstance, map_dir: &Path) -> Result<String, HarnessE
         Err(_) => std::fs::write(&theirs, &ours)
             .map_err(io(format!("copying the map to {}", theirs.display())))?,
     }
-    Ok(name)
+    Ok(())
 }
 
 /// tswap's instance file: the map by name, the agents, a timestep cap no
 /// solution on the map needs, the time limit in milliseconds, and the agents'
 /// starts and goals.
-fn instance_text(map_name: &str, instance: &GridInstance, limit: Duration) -> String {
+fn instance_text(instance: &GridInstance, limit: Duration) -> String {
     let [width, height] = instance.size;
     let max_timestep = (10 * (width + height)).max(1000);
     let mut text = format!(
-        "map_file={map_name}\nagents={}\nseed=0\nrandom_problem=0\nmax_timestep={max_timestep}\nmax_comp_time={}\n",
+        "map_file={}\nagents={}\nseed=0\nrandom_problem=0\nmax_timestep={max_timestep}\nmax_comp_time={}\n",
+        instance.map_name,
         instance.starts.len(),
         limit.as_millis()
     );
@@ -120,14 +107,6 @@ fn instance_text(map_name: &str, instance: &GridInstance, limit: Duration) -> St
         text.push_str(&format!("{sx},{sy},{gx},{gy}\n"));
     }
     text
-}
-
-/// What tswap's result file says, if the run ended well and wrote one.
-fn answer(process: &ChildRun, result: &Path, solver: Solver) -> Option<Answer> {
-    if !process.succeeded() {
-        return None;
-    }
-    parse(&std::fs::read_to_string(result).ok()?, solver)
 }
 
 /// tswap's result file: `solved`, `makespan`, `comp_time` (ms); TSWAP's
@@ -176,13 +155,14 @@ mod tests {
     #[test]
     fn the_instance_lists_every_agent_in_tswaps_order() {
         let instance = GridInstance {
+            map_name: "m.map".into(),
             map_path: "m.map".into(),
             scen_path: "m-2-1.scen".into(),
             size: [64, 64],
             starts: vec![[1, 2], [3, 4]],
             goals: vec![[5, 6], [7, 8]],
         };
-        let text = instance_text("m.map", &instance, Duration::from_secs(30));
+        let text = instance_text(&instance, Duration::from_secs(30));
         assert!(text.starts_with("map_file=m.map\nagents=2\n"), "{text}");
         assert!(text.contains("random_problem=0\n"));
         assert!(text.contains("max_comp_time=30000\n"));
